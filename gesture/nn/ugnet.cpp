@@ -1,0 +1,85 @@
+#include "gesture/nn/ugnet.h"
+
+#include <variant>
+
+#include "gesture/error.h"
+#include "gesture/nn/ugnet_architectures.h"
+
+namespace deixis::nn {
+
+struct Ugnet::Networks {
+  std::variant<UgnetMoe, UgnetMlp, UgnetTransformer, UgnetDiffusion> net;
+};
+
+std::string_view architecture_name(UgnetArchitecture architecture) {
+  switch (architecture) {
+    case UgnetArchitecture::kMoe:
+      return "MoE";
+    case UgnetArchitecture::kMlp:
+      return "MLP";
+    case UgnetArchitecture::kTransformer:
+      return "Transformer";
+    case UgnetArchitecture::kDiffusion:
+      return "Diffusion";
+  }
+  return "?";
+}
+
+namespace {
+
+template <typename Net>
+std::shared_ptr<Ugnet::Networks> load_as(const SafetensorsFile& file) {
+  auto networks = std::make_shared<Ugnet::Networks>();
+  networks->net.emplace<Net>().load(file);
+  return networks;
+}
+
+}  // namespace
+
+Ugnet Ugnet::load(const SafetensorsFile& file) {
+  if (UgnetMoe::recognises(file)) {
+    return Ugnet(load_as<UgnetMoe>(file));
+  }
+  if (UgnetMlp::recognises(file)) {
+    return Ugnet(load_as<UgnetMlp>(file));
+  }
+  if (UgnetTransformer::recognises(file)) {
+    return Ugnet(load_as<UgnetTransformer>(file));
+  }
+  if (UgnetDiffusion::recognises(file)) {
+    return Ugnet(load_as<UgnetDiffusion>(file));
+  }
+  throw Error(file.source() +
+              ": not a UGNet checkpoint (expected the tensors of the MoE 'gating_network.gru.*', "
+              "'moe_network.*'; the MLP 'linear1.weight' [1056, 264]; the Transformer "
+              "'linear_input_pose.*', 'transformer.layers.*'; or the Diffusion 'model.fin.*', "
+              "'time_mlp.*', 'sigma')");
+}
+
+Ugnet Ugnet::load(const std::filesystem::path& path) { return load(SafetensorsFile::read(path)); }
+
+UgnetArchitecture Ugnet::architecture() const {
+  return static_cast<UgnetArchitecture>(networks_->net.index());
+}
+
+std::size_t Ugnet::parameter_count() const {
+  return std::visit([](const auto& net) { return net.kParameters; }, networks_->net);
+}
+
+PoseVector Ugnet::run(UgnetWindow window, std::span<const float> noise,
+                      UgnetTrace* trace) const noexcept {
+  return std::visit(
+      [&](const auto& net) {
+        using Net = std::decay_t<decltype(net)>;
+        if constexpr (std::is_same_v<Net, UgnetMoe>) {
+          return net.run(window, trace);
+        } else if constexpr (std::is_same_v<Net, UgnetDiffusion>) {
+          return net.run(window, noise, trace);
+        } else {
+          return net.run(window);
+        }
+      },
+      networks_->net);
+}
+
+}  // namespace deixis::nn

@@ -1,0 +1,50 @@
+#pragma once
+// UGNet, the Upper-body Gesture Network (paper §IV.B): a 30-row window of (end-effectors x,
+// avatar target feature, progression) → the avatar's end-effectors x at the next tick. Only the
+// newest row's x is read (NOTES §4.1). One class for the four architectures of paper Table IV,
+// recognised from the checkpoint's tensor names.
+//
+// Like Mpnet, a Ugnet is a handle to shared read-only weights and run() is const, thread-safe,
+// allocation-free and noexcept. The diffusion variant samples: its 30 Gaussian draws are supplied
+// by the caller, so a run is exactly reproducible (NOTES §4.5); the other variants ignore them.
+
+#include <filesystem>
+#include <memory>
+#include <string_view>
+
+#include "gesture/io/safetensors.h"
+#include "gesture/nn/shapes.h"
+
+namespace deixis::nn {
+
+enum class UgnetArchitecture { kMoe, kMlp, kTransformer, kDiffusion };
+std::string_view architecture_name(UgnetArchitecture architecture);
+
+// Intermediate values for parity tests; each architecture fills what it has.
+struct UgnetTrace {
+  std::array<float, 9> omega{};                                   // MoE gating softmax
+  std::array<float, kDiffusionSteps * kPoseSize> denoised_steps{};  // diffusion x0 per step
+};
+
+class Ugnet {
+ public:
+  static Ugnet load(const SafetensorsFile& file);
+  static Ugnet load(const std::filesystem::path& path);
+
+  UgnetArchitecture architecture() const;
+  bool needs_noise() const { return architecture() == UgnetArchitecture::kDiffusion; }
+  std::size_t parameter_count() const;
+
+  // `noise` is read only by the diffusion variant: kDiffusionNoiseSize standard-normal draws
+  // (shapes.h). Given fewer, it samples with all draws zero, which is deterministic.
+  PoseVector run(UgnetWindow window, std::span<const float> noise = {},
+                 UgnetTrace* trace = nullptr) const noexcept;
+
+  struct Networks;  // the loaded weights of one architecture (ugnet.cpp)
+
+ private:
+  explicit Ugnet(std::shared_ptr<const Networks> networks) : networks_(std::move(networks)) {}
+  std::shared_ptr<const Networks> networks_;
+};
+
+}  // namespace deixis::nn
