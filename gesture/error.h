@@ -1,7 +1,8 @@
 #pragma once
 // The one exception type Deixis throws at its boundaries (files, flags, packets at load time).
 // Messages name what was wrong and where, e.g.
-//   "weights/MPNet.safetensors: tensor 'gru.weight_ih_l0': expected shape [72, 11], found [72, 12]".
+//   "weights/MPNet.safetensors: tensor 'gru.weight_ih_l0': expected shape [72, 11], found [72,
+//   12]".
 // Hot paths never throw: they run on inputs that a boundary already validated.
 
 #include <stdexcept>

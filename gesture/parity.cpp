@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "gesture/error.h"
 #include "gesture/io/safetensors.h"
@@ -45,8 +46,8 @@ std::int64_t batch_of(const SafetensorsFile& fixture, const std::string& name,
 }
 
 // Compares `ours` with the fixture's `name` (F32 or F64) and its `name`_f64 twin if present.
-void compare(const SafetensorsFile& fixture, const std::string& name, const std::vector<float>& ours,
-             double tolerance, ParityReport& report) {
+void compare(const SafetensorsFile& fixture, const std::string& name,
+             const std::vector<float>& ours, double tolerance, ParityReport& report) {
   const TensorInfo* info = fixture.find(name);
   if (info == nullptr) {
     return;
@@ -66,7 +67,8 @@ void compare(const SafetensorsFile& fixture, const std::string& name, const std:
   ParityCheck check{name, 0.0, tolerance, reference.size()};
   for (std::size_t i = 0; i < reference.size(); ++i) {
     const double error = std::abs(static_cast<double>(ours[i]) - reference[i]);
-    check.max_abs_error = std::isnan(error) ? INFINITY : std::max(check.max_abs_error, error);
+    check.max_abs_error = std::isnan(error) ? std::numeric_limits<double>::infinity()
+                                            : std::max(check.max_abs_error, error);
   }
   report.checks.push_back(check);
 }
@@ -137,9 +139,9 @@ void run_ugnet(const SafetensorsFile& fixture, const std::filesystem::path& chec
       }
     }
     nn::UgnetTrace trace;
-    const nn::PoseVector y = net.run(
-        nn::UgnetWindow(input.data() + i * nn::kUgnetWindowSize, nn::kUgnetWindowSize), draws,
-        &trace);
+    const nn::PoseVector y =
+        net.run(nn::UgnetWindow(input.data() + i * nn::kUgnetWindowSize, nn::kUgnetWindowSize),
+                draws, &trace);
     append(out["output"], y);
     if (net.architecture() == nn::UgnetArchitecture::kMoe) {
       append(out["omega"], trace.omega);
@@ -177,8 +179,9 @@ void run_amnet(const SafetensorsFile& fixture, const std::filesystem::path& chec
   Outputs out;
   for (std::int64_t i = 0; i < k; ++i) {
     using Window = std::span<const float, nn::kAmnetWindowSize>;
-    append(out["output"], net.run(Window(local.data() + i * nn::kAmnetWindowSize, nn::kAmnetWindowSize),
-                                  Window(remote.data() + i * nn::kAmnetWindowSize, nn::kAmnetWindowSize)));
+    append(out["output"],
+           net.run(Window(local.data() + i * nn::kAmnetWindowSize, nn::kAmnetWindowSize),
+                   Window(remote.data() + i * nn::kAmnetWindowSize, nn::kAmnetWindowSize)));
   }
   report.windows = static_cast<int>(k);
   compare_all(fixture, out, kAmnetTolerance, report);

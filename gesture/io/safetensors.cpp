@@ -1,5 +1,6 @@
 #include "gesture/io/safetensors.h"
 
+#include <unistd.h>
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -8,7 +9,6 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <unistd.h>
 
 #include "gesture/error.h"
 
@@ -56,7 +56,9 @@ struct HeaderRejected {
   std::string what;
 };
 
-std::string json_type(const json& j) { return j.type_name(); }
+std::string json_type(const json& j) {
+  return j.type_name();
+}
 
 bool parse_dtype(std::string_view text, DType& out) {
   for (const auto& entry : kDTypes) {
@@ -80,8 +82,8 @@ std::uint64_t read_unsigned(std::string_view source, std::string_view tensor, co
 
 TensorInfo parse_tensor_entry(std::string_view source, const std::string& name, const json& j) {
   if (!j.is_object()) {
-    fail_tensor(source, name, "expected an object with dtype, shape and data_offsets, found " +
-                                  json_type(j));
+    fail_tensor(source, name,
+                "expected an object with dtype, shape and data_offsets, found " + json_type(j));
   }
   for (const auto& [key, value] : j.items()) {
     if (key != "dtype" && key != "shape" && key != "data_offsets") {
@@ -134,8 +136,8 @@ TensorInfo parse_tensor_entry(std::string_view source, const std::string& name, 
   for (const std::int64_t d : info.shape) {
     if (__builtin_mul_overflow(bytes, static_cast<std::uint64_t>(d), &bytes)) {
       fail_tensor(source, name,
-                  "shape " + shape_string(info.shape) + " of " + std::string(dtype_name(info.dtype)) +
-                      " overflows 64-bit byte count");
+                  "shape " + shape_string(info.shape) + " of " +
+                      std::string(dtype_name(info.dtype)) + " overflows 64-bit byte count");
     }
   }
   if (info.end - info.begin != bytes) {
@@ -175,20 +177,19 @@ void check_tiling(std::string_view source, std::vector<TensorInfo>& tensors,
     if (t.end > data_size) {
       fail_tensor(source, t.name,
                   "data_offsets [" + std::to_string(t.begin) + ", " + std::to_string(t.end) +
-                      "] reach beyond the data section of " + std::to_string(data_size) +
-                      " bytes");
+                      "] reach beyond the data section of " + std::to_string(data_size) + " bytes");
     }
     if (t.begin < expected_begin) {
       fail_tensor(source, t.name,
                   "data_offsets [" + std::to_string(t.begin) + ", " + std::to_string(t.end) +
                       "] overlap tensor '" + previous->name + "' [" +
-                      std::to_string(previous->begin) + ", " + std::to_string(previous->end) +
-                      "]");
+                      std::to_string(previous->begin) + ", " + std::to_string(previous->end) + "]");
     }
     if (t.begin > expected_begin) {
       fail_tensor(source, t.name,
-                  "data_offsets begin at " + std::to_string(t.begin) + " but the previous tensor" +
-                      (previous ? " '" + previous->name + "'" : std::string()) + " ends at " +
+                  "data_offsets begin at " + std::to_string(t.begin) + " but " +
+                      (previous ? "the previous tensor '" + previous->name + "' ends at "
+                                : std::string("the data section starts at ")) +
                       std::to_string(expected_begin) + " (a gap in the data section)");
     }
     expected_begin = t.end;
@@ -245,33 +246,47 @@ SafetensorsHeader parse_safetensors_header(std::string_view source,
   std::uint64_t header_size = 0;
   std::memcpy(&header_size, file.data(), 8);
   if (header_size < 2) {
-    fail(source, "header length is " + std::to_string(header_size) +
-                     " bytes; not a safetensors file");
+    fail(source,
+         "header length is " + std::to_string(header_size) + " bytes; not a safetensors file");
   }
   if (header_size > kMaxSafetensorsHeaderBytes) {
     fail(source, "header length " + std::to_string(header_size) + " bytes exceeds the limit of " +
                      std::to_string(kMaxSafetensorsHeaderBytes) + " (not a safetensors file?)");
   }
   if (header_size > file.size() - 8) {
-    fail(source, "header length " + std::to_string(header_size) + " runs past the end of the file (" +
-                     std::to_string(file.size() - 8) + " bytes follow the length field)");
+    fail(source, "header length " + std::to_string(header_size) +
+                     " runs past the end of the file (" + std::to_string(file.size() - 8) +
+                     " bytes follow the length field)");
   }
   const char* text = reinterpret_cast<const char*>(file.data() + 8);
   if (text[0] != '{') {
     fail(source, "header does not start with '{'; not a safetensors file");
   }
 
+  // nlohmann keeps the last of duplicate keys silently; a header that says two things about one
+  // tensor (or one metadata key) is ambiguous, so duplicates are rejected at both levels.
   std::set<std::string> top_level_keys;
-  const json::parser_callback_t callback = [&](int depth, json::parse_event_t event,
-                                               json& parsed) {
+  std::string entry_name;            // the top-level key whose object is being parsed
+  std::set<std::string> entry_keys;  // the keys seen so far inside that object
+  const json::parser_callback_t callback = [&](int depth, json::parse_event_t event, json& parsed) {
     if (depth > kMaxJsonDepth) {
       throw HeaderRejected{"header JSON nests deeper than " + std::to_string(kMaxJsonDepth) +
                            " levels"};
     }
     if (event == json::parse_event_t::key && depth == 1) {
+      entry_name = parsed.get<std::string>();
+      entry_keys.clear();
+      if (!top_level_keys.insert(entry_name).second) {
+        throw HeaderRejected{"tensor '" + entry_name + "' appears twice in the header"};
+      }
+    }
+    if (event == json::parse_event_t::key && depth == 2) {
       const std::string key = parsed.get<std::string>();
-      if (!top_level_keys.insert(key).second) {
-        throw HeaderRejected{"tensor '" + key + "' appears twice in the header"};
+      if (!entry_keys.insert(key).second) {
+        throw HeaderRejected{entry_name == "__metadata__"
+                                 ? "__metadata__: key '" + key + "' appears twice"
+                                 : "tensor '" + entry_name + "': field '" + key +
+                                       "' appears twice"};
       }
     }
     return true;
@@ -309,6 +324,16 @@ SafetensorsFile::SafetensorsFile(std::string source, std::vector<std::byte> byte
 
 SafetensorsFile SafetensorsFile::read(const std::filesystem::path& path) {
   const std::string source = path.string();
+  // Only regular files: a directory opens as a stream too, and on ext4 its end "offset" is
+  // 2^63 - 1, which would be allocated as the file's size.
+  std::error_code status_error;
+  const std::filesystem::file_status status = std::filesystem::status(path, status_error);
+  if (status_error) {
+    fail(source, "cannot open: " + status_error.message());
+  }
+  if (!std::filesystem::is_regular_file(status)) {
+    fail(source, "cannot open: not a regular file");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     fail(source, std::string("cannot open: ") + std::strerror(errno));
@@ -395,9 +420,9 @@ template <typename T>
 void check_finite(std::string_view source, std::string_view name, std::span<const T> values) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i])) {
+      const char* found = std::isnan(values[i]) ? "NaN" : (values[i] > 0 ? "+Inf" : "-Inf");
       fail_tensor(source, name,
-                  "element " + std::to_string(i) + " is " +
-                      (std::isnan(values[i]) ? "NaN" : "infinite") + "; values must be finite");
+                  "element " + std::to_string(i) + " is " + found + "; values must be finite");
     }
   }
 }
@@ -413,7 +438,9 @@ void SafetensorsFile::copy_f32(std::string_view name, std::span<const std::int64
                     std::to_string(t.numel()));
   }
   const auto data = bytes(t);
-  std::memcpy(out.data(), data.data(), data.size());
+  if (!data.empty()) {  // a zero-size tensor's destination may be null, which memcpy forbids
+    std::memcpy(out.data(), data.data(), data.size());
+  }
   check_finite<float>(source_, name, out);
 }
 
@@ -429,7 +456,9 @@ std::vector<double> SafetensorsFile::read_f64(std::string_view name,
   const TensorInfo& t = require(name, DType::kF64, shape);
   std::vector<double> values(t.numel());
   const auto data = bytes(t);
-  std::memcpy(values.data(), data.data(), data.size());
+  if (!data.empty()) {  // as in copy_f32: an empty vector's data() may be null
+    std::memcpy(values.data(), data.data(), data.size());
+  }
   check_finite<double>(source_, name, values);
   return values;
 }
@@ -438,20 +467,29 @@ std::vector<double> SafetensorsFile::read_f64(std::string_view name,
 
 void SafetensorsWriter::add(std::string name, DType dtype, std::vector<std::int64_t> shape,
                             std::span<const std::byte> data) {
-  std::uint64_t numel = 1;
+  // The same checks, in the same order, as the reader's: the writer never makes a file that
+  // parse_safetensors_header rejects (an unchecked product could wrap to match the data's size).
+  if (shape.size() > kMaxRank) {
+    throw Error("safetensors writer: tensor '" + name + "' has more than " +
+                std::to_string(kMaxRank) + " dimensions");
+  }
+  std::uint64_t byte_count = dtype_size(dtype);
   for (const std::int64_t d : shape) {
     if (d < 0) {
       throw Error("safetensors writer: tensor '" + name + "' has a negative dimension");
     }
-    numel *= static_cast<std::uint64_t>(d);
+    if (__builtin_mul_overflow(byte_count, static_cast<std::uint64_t>(d), &byte_count)) {
+      throw Error("safetensors writer: tensor '" + name + "' shape " + shape_string(shape) +
+                  " overflows 64-bit byte count");
+    }
   }
-  if (numel * dtype_size(dtype) != data.size()) {
+  if (byte_count != data.size()) {
     throw Error("safetensors writer: tensor '" + name + "' shape " + shape_string(shape) +
-                " needs " + std::to_string(numel * dtype_size(dtype)) + " bytes, given " +
+                " needs " + std::to_string(byte_count) + " bytes, given " +
                 std::to_string(data.size()));
   }
-  if (name == "__metadata__" ||
-      std::any_of(entries_.begin(), entries_.end(), [&](const Entry& e) { return e.name == name; })) {
+  if (name == "__metadata__" || std::any_of(entries_.begin(), entries_.end(),
+                                            [&](const Entry& e) { return e.name == name; })) {
     throw Error("safetensors writer: tensor name '" + name + "' used twice or reserved");
   }
   entries_.push_back({std::move(name), dtype, std::move(shape), {data.begin(), data.end()}});
@@ -492,13 +530,16 @@ std::vector<std::byte> SafetensorsWriter::serialize() const {
   text.append((8 - text.size() % 8) % 8, ' ');  // align the data section to 8 bytes
   const std::uint64_t header_size = text.size();
 
-  std::vector<std::byte> out(8 + header_size + offset);
-  std::memcpy(out.data(), &header_size, 8);
-  std::memcpy(out.data() + 8, text.data(), header_size);
-  std::byte* data = out.data() + 8 + header_size;
+  std::vector<std::byte> out;
+  out.reserve(8 + header_size + offset);
+  for (int i = 0; i < 8; ++i) {
+    out.push_back(static_cast<std::byte>((header_size >> (8 * i)) & 0xff));
+  }
+  for (const char c : text) {
+    out.push_back(static_cast<std::byte>(c));
+  }
   for (const Entry& e : entries_) {
-    std::memcpy(data, e.data.data(), e.data.size());
-    data += e.data.size();
+    out.insert(out.end(), e.data.begin(), e.data.end());
   }
   return out;
 }

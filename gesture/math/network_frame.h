@@ -17,8 +17,12 @@ namespace deixis {
 
 // ---- world <-> network frame -------------------------------------------------------------------
 
-inline Vec3 to_network_frame(const Vec3& v) { return {v.x(), v.y(), -v.z()}; }
-inline Vec3 from_network_frame(const Vec3& v) { return to_network_frame(v); }
+inline Vec3 to_network_frame(const Vec3& v) {
+  return {v.x(), v.y(), -v.z()};
+}
+inline Vec3 from_network_frame(const Vec3& v) {
+  return to_network_frame(v);
+}
 
 // S·R·S with S = diag(1, 1, −1): negate the entries that mix z with x or y.
 inline Mat3 to_network_frame(const Mat3& R) {
@@ -29,12 +33,16 @@ inline Mat3 to_network_frame(const Mat3& R) {
   out(2, 1) = -out(2, 1);
   return out;
 }
-inline Mat3 from_network_frame(const Mat3& R) { return to_network_frame(R); }
+inline Mat3 from_network_frame(const Mat3& R) {
+  return to_network_frame(R);
+}
 
 inline Pose to_network_frame(const Pose& T) {
   return {to_network_frame(T.rotation), to_network_frame(T.translation)};
 }
-inline Pose from_network_frame(const Pose& T) { return to_network_frame(T); }
+inline Pose from_network_frame(const Pose& T) {
+  return to_network_frame(T);
+}
 
 // ---- the 24 end-effectors x (DESIGN §4, NOTES §4.1), network frame -----------------------------
 
@@ -51,9 +59,8 @@ inline constexpr int kHandForward = 12;   // deictic hand 6D forward, head frame
 inline constexpr int kHandUp = 15;        // deictic hand 6D up, head frame
 inline constexpr int kHandPosition = 18;  // wrist position, head frame (m)
 inline constexpr int kFingertip = 21;     // index fingertip position, hand frame (m)
-inline constexpr std::array<int, 8> kAllVectors = {kGaze,     kHeadForward,  kHeadUp,
-                                                   kHeadPosition, kHandForward, kHandUp,
-                                                   kHandPosition, kFingertip};
+inline constexpr std::array<int, 8> kAllVectors = {
+    kGaze, kHeadForward, kHeadUp, kHeadPosition, kHandForward, kHandUp, kHandPosition, kFingertip};
 }  // namespace ee
 
 inline Vec3 get_vec3(std::span<const float, kEndEffectorSize> x, int offset) {

@@ -4,7 +4,9 @@
 
 namespace deixis {
 
-Mat3 yaw_rotation(float angle) { return Eigen::AngleAxisf(angle, Vec3::UnitY()).toRotationMatrix(); }
+Mat3 yaw_rotation(float angle) {
+  return Eigen::AngleAxisf(angle, Vec3::UnitY()).toRotationMatrix();
+}
 
 float yaw_of(const Mat3& rotation, const Vec3& forward_axis) {
   const Vec3 f = rotation * forward_axis;

@@ -34,7 +34,9 @@ inline Vec3 transform_point(const Pose& T_a_b, const Vec3& p_b) {
 }
 
 // A direction (free vector) given in frame b, expressed in frame a.
-inline Vec3 transform_direction(const Pose& T_a_b, const Vec3& d_b) { return T_a_b.rotation * d_b; }
+inline Vec3 transform_direction(const Pose& T_a_b, const Vec3& d_b) {
+  return T_a_b.rotation * d_b;
+}
 
 // A rotation about +Y (yaw) by `angle` radians, right-handed.
 Mat3 yaw_rotation(float angle);

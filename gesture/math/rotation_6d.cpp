@@ -7,7 +7,9 @@ namespace {
 
 constexpr float kTinyLength = 1e-6f;
 
-bool usable(const Vec3& v) { return v.allFinite() && v.norm() > kTinyLength; }
+bool usable(const Vec3& v) {
+  return v.allFinite() && v.norm() > kTinyLength;
+}
 
 }  // namespace
 

@@ -14,7 +14,9 @@ struct Rotation6D {
 };
 
 // (forward, up) = (R·e_z, R·e_y).
-inline Rotation6D encode_6d(const Mat3& R) { return {R.col(2), R.col(1)}; }
+inline Rotation6D encode_6d(const Mat3& R) {
+  return {R.col(2), R.col(1)};
+}
 
 // Decodes to a proper rotation (orthonormal, det +1) for any input: Gram–Schmidt that keeps the
 // forward column's direction exact, then right = up × forward. Degenerate input (zero or
@@ -22,7 +24,9 @@ inline Rotation6D encode_6d(const Mat3& R) { return {R.col(2), R.col(1)}; }
 // producing NaN: forward defaults to +Z, up to +Y (or +X when forward is vertical). This is what
 // IK and rendering consume (DESIGN §3).
 Mat3 decode_6d(const Vec3& forward, const Vec3& up);
-inline Mat3 decode_6d(const Rotation6D& r) { return decode_6d(r.forward, r.up); }
+inline Mat3 decode_6d(const Rotation6D& r) {
+  return decode_6d(r.forward, r.up);
+}
 
 // The authors' recipe, kept only so that metrics reproduce theirs (NOTES §2.3): each column is
 // normalised separately, right = up × forward, and forward and up are *not* made orthogonal, so

@@ -9,10 +9,7 @@ namespace deixis::nn {
 // ELU with α = 1: x for x > 0, exp(x) − 1 otherwise (torch.nn.ELU uses expm1).
 template <typename Derived>
 void elu_inplace(Eigen::MatrixBase<Derived>& x) {
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
-    const float v = x(i);
-    x(i) = v > 0.0f ? v : std::expm1(v);
-  }
+  x = (x.array() > 0.0f).select(x.array(), x.array().expm1()).matrix();
 }
 
 template <typename Derived>
@@ -29,7 +26,9 @@ void silu_inplace(Eigen::MatrixBase<Derived>& x) {
   }
 }
 
-inline float sigmoid(float v) { return 1.0f / (1.0f + std::exp(-v)); }
+inline float sigmoid(float v) {
+  return 1.0f / (1.0f + std::exp(-v));
+}
 
 // Numerically stable softmax over a vector, in place.
 template <typename Derived>

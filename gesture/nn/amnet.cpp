@@ -28,8 +28,8 @@ struct BatchNorm {
     load_vector(file, prefix + ".running_var", running_var);
   }
   void apply(Eigen::Matrix<float, kHidden, 1>& x) const {
-    x = ((x - running_mean.view()).array() /
-             (running_var.view().array() + 1e-5f).sqrt() * weight.view().array() +
+    x = ((x - running_mean.view()).array() / (running_var.view().array() + 1e-5f).sqrt() *
+             weight.view().array() +
          bias.view().array())
             .matrix();
   }
@@ -95,7 +95,9 @@ Amnet Amnet::load(const SafetensorsFile& file) {
   return Amnet(std::move(net));
 }
 
-Amnet Amnet::load(const std::filesystem::path& path) { return load(SafetensorsFile::read(path)); }
+Amnet Amnet::load(const std::filesystem::path& path) {
+  return load(SafetensorsFile::read(path));
+}
 
 std::array<float, kAmnetOutputSize> Amnet::run(
     std::span<const float, kAmnetWindowSize> local,

@@ -29,9 +29,9 @@ class Amnet {
   static Amnet load(const SafetensorsFile& file);
   static Amnet load(const std::filesystem::path& path);
 
-  std::array<float, kAmnetOutputSize> run(std::span<const float, kAmnetWindowSize> local,
-                                          std::span<const float, kAmnetWindowSize> remote) const
-      noexcept;
+  std::array<float, kAmnetOutputSize> run(
+      std::span<const float, kAmnetWindowSize> local,
+      std::span<const float, kAmnetWindowSize> remote) const noexcept;
 
   struct Network;  // the loaded weights (amnet.cpp)
 

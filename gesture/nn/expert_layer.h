@@ -4,52 +4,67 @@
 // multiply from the right (x·W), unlike nn.Linear.
 //
 // We blend the experts' *outputs* instead of their weights: Σ_e ω_e (x·W_e + b_e) is the same
-// value (Σ ω = 1 is not even needed: both are linear in ω), costs one pass over the weights
-// instead of two, and needs no per-call weight buffer. To make that one pass a single long
-// matrix-vector product, load() re-lays the weights out as [in, e·out].
+// value (both are linear in ω), costs one pass over the weights instead of two, and needs no
+// per-call weight buffer. load() re-lays the weights out so that all experts' outputs are one
+// long matrix-vector product, stored as contiguous panels of outputs (panel_order.h).
 
 #include <string>
 
+#include "gesture/nn/panel_order.h"
 #include "gesture/nn/params.h"
 
 namespace deixis::nn {
 
 template <int Experts, int In, int Out>
 struct ExpertLayer {
-  MatrixParam<In, Experts * Out> weight;  // row i: input i's weights for every expert's outputs
-  MatrixParam<Out, Experts> bias;         // column e: expert e's bias (stored col-major below)
+  static constexpr int kAll = Experts * Out;  // outputs of all experts, expert-major
+  static constexpr int kPanel = panel_width(kAll);
+  static constexpr int kPanels = kAll / kPanel;
+  using Panel = Eigen::Matrix<float, In, kPanel, Eigen::RowMajor>;
+
+  // Panel p is an In × kPanel row-major block: the weights of outputs [p·kPanel, (p+1)·kPanel).
+  AlignedFloats panels = AlignedFloats(static_cast<std::size_t>(In) * kAll);
+  MatrixParam<Out, Experts> bias;  // column e: expert e's bias
 
   void load(const SafetensorsFile& file, const std::string& weight_name,
             const std::string& bias_name) {
     AlignedFloats stacked(static_cast<std::size_t>(Experts) * In * Out);
     const std::int64_t weight_shape[] = {Experts, In, Out};
     file.copy_f32(weight_name, weight_shape, stacked);
-    auto dst = weight.storage();
+    // Output column j = e·Out + o of the concatenated experts lives in panel j / kPanel.
     for (int e = 0; e < Experts; ++e) {
       for (int i = 0; i < In; ++i) {
         for (int o = 0; o < Out; ++o) {
-          dst[static_cast<std::size_t>(i) * Experts * Out + e * Out + o] =
+          const int j = e * Out + o;
+          panels[(static_cast<std::size_t>(j / kPanel) * In + i) * kPanel + j % kPanel] =
               stacked[(static_cast<std::size_t>(e) * In + i) * Out + o];
         }
       }
     }
-    // b [e, out] row-major is exactly an Out × Experts column-major matrix; MatrixParam stores
-    // row-major, so transpose while copying.
     AlignedFloats b(static_cast<std::size_t>(Experts) * Out);
     const std::int64_t bias_shape[] = {Experts, Out};
     file.copy_f32(bias_name, bias_shape, b);
     auto bias_dst = bias.storage();
     for (int e = 0; e < Experts; ++e) {
       for (int o = 0; o < Out; ++o) {
-        bias_dst[static_cast<std::size_t>(o) * Experts + e] = b[static_cast<std::size_t>(e) * Out + o];
+        bias_dst[static_cast<std::size_t>(o) * Experts + e] =
+            b[static_cast<std::size_t>(e) * Out + o];
       }
     }
   }
 
+  // y = Σ_e ω_e (x·W_e + b_e). `reverse` visits the panels last to first (same result;
+  // panel_order.h).
   template <typename InputVector, typename OmegaVector>
-  Eigen::Matrix<float, Out, 1> run(const InputVector& x, const OmegaVector& omega) const {
-    Eigen::Matrix<float, Experts * Out, 1> all;
-    all.noalias() = weight.view().transpose() * x;
+  Eigen::Matrix<float, Out, 1> run(const InputVector& x, const OmegaVector& omega,
+                                   bool reverse = false) const {
+    Eigen::Matrix<float, kAll, 1> all;  // x·W_e for every expert, expert-major
+    for (int k = 0; k < kPanels; ++k) {
+      const int p = reverse ? kPanels - 1 - k : k;
+      const Eigen::Map<const Panel, Eigen::AlignedMax> panel(
+          panels.data() + static_cast<std::size_t>(p) * In * kPanel);
+      all.template segment<kPanel>(p * kPanel).noalias() = panel.transpose() * x;
+    }
     const Eigen::Map<const Eigen::Matrix<float, Out, Experts>> per_expert(all.data());
     Eigen::Matrix<float, Out, 1> y;
     y.noalias() = per_expert * omega;

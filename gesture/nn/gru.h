@@ -22,6 +22,11 @@ struct GruLayer {
   MatrixParam<kGates, Hidden> weight_hh;
   VectorParam<kGates> bias_ih;
   VectorParam<kGates> bias_hh;
+  // The same weights transposed. A step's products are tiny (e.g. 27 × 9); as row-major dot
+  // products they need a horizontal sum per row, whereas column by column they are a few
+  // vectorised multiply-adds along the 3·Hidden gates.
+  MatrixParam<In, kGates> weight_ih_by_column;
+  MatrixParam<Hidden, kGates> weight_hh_by_column;
 
   // `prefix` is e.g. "gru" and `layer` 0 for "gru.weight_ih_l0".
   void load(const SafetensorsFile& file, const std::string& prefix, int layer) {
@@ -30,29 +35,56 @@ struct GruLayer {
     load_matrix(file, prefix + ".weight_hh" + l, weight_hh);
     load_vector(file, prefix + ".bias_ih" + l, bias_ih);
     load_vector(file, prefix + ".bias_hh" + l, bias_hh);
+    transpose_into(weight_ih, weight_ih_by_column);
+    transpose_into(weight_hh, weight_hh_by_column);
   }
 
-  // Runs over `steps` rows of `inputs` (Steps × In, row-major; any Eigen expression) from h = 0.
-  // Writes every step's hidden state to `outputs` (Steps × Hidden) and returns nothing else; the
-  // last row is the layer's final output.
-  template <int Steps, typename InputMatrix, typename OutputMatrix>
-  void run(const InputMatrix& inputs, OutputMatrix& outputs) const {
-    // Input projections of all steps at once: one matrix product instead of Steps small ones.
-    Eigen::Matrix<float, Steps, kGates, Eigen::RowMajor> gi;
+  using State = Eigen::Matrix<float, Hidden, 1>;  // the hidden state h
+  template <int Steps>
+  using Projections = Eigen::Matrix<float, Steps, kGates, Eigen::RowMajor>;
+
+  // W_ih·x + b_ih for every row of `inputs` (Steps × In) at once: one matrix product instead of
+  // Steps small ones.
+  template <int Steps, typename InputMatrix>
+  Projections<Steps> project_inputs(const InputMatrix& inputs) const {
+    Projections<Steps> gi;
     gi.noalias() = inputs * weight_ih.view().transpose();
     gi.rowwise() += bias_ih.view().transpose();
+    return gi;
+  }
 
-    Eigen::Matrix<float, Hidden, 1> h = Eigen::Matrix<float, Hidden, 1>::Zero();
-    Eigen::Matrix<float, kGates, 1> gh;
+  // W_ih·x + b_ih for one input vector.
+  template <typename InputVector>
+  Eigen::Matrix<float, kGates, 1> project_input(const InputVector& x) const {
+    Eigen::Matrix<float, kGates, 1> gi = bias_ih.view();
+    gi.noalias() += weight_ih_by_column.view().transpose().lazyProduct(x);
+    return gi;
+  }
+
+  // One recurrence step: h ← GRU(h, x) given x's input projection `gi` (3·Hidden).
+  template <typename ProjectionRow>
+  void step(const ProjectionRow& gi, State& h) const {
+    Eigen::Matrix<float, kGates, 1> gh = bias_hh.view();
+    gh.noalias() += weight_hh_by_column.view().transpose().lazyProduct(h);
+    // The gates as whole vectors, through Eigen's vectorised logistic and tanh (accurate to a few
+    // ulp; PyTorch's own CPU kernels are vectorised approximations too).
+    const Eigen::Array<float, 2 * Hidden, 1> rz =
+        (gi.template head<2 * Hidden>() + gh.template head<2 * Hidden>()).array().logistic();
+    const State n = (gi.template tail<Hidden>().array() +
+                     rz.template head<Hidden>() * gh.template tail<Hidden>().array())
+                        .tanh()
+                        .matrix();
+    h = n + (rz.template tail<Hidden>() * (h - n).array()).matrix();
+  }
+
+  // Runs over the rows of `inputs` (Steps × In) from h = 0 and writes every step's hidden state
+  // to `outputs` (Steps × Hidden); the last row is the layer's final output.
+  template <int Steps, typename InputMatrix, typename OutputMatrix>
+  void run(const InputMatrix& inputs, OutputMatrix& outputs) const {
+    const Projections<Steps> gi = project_inputs<Steps>(inputs);
+    State h = State::Zero();
     for (int t = 0; t < Steps; ++t) {
-      gh.noalias() = weight_hh.view() * h;
-      gh += bias_hh.view();
-      for (int k = 0; k < Hidden; ++k) {
-        const float r = sigmoid(gi(t, k) + gh(k));
-        const float z = sigmoid(gi(t, Hidden + k) + gh(Hidden + k));
-        const float n = std::tanh(gi(t, 2 * Hidden + k) + r * gh(2 * Hidden + k));
-        h(k) = (1.0f - z) * n + z * h(k);
-      }
+      step(gi.row(t).transpose(), h);
       outputs.row(t) = h.transpose();
     }
   }

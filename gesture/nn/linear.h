@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "gesture/nn/panel_order.h"
 #include "gesture/nn/params.h"
 
 namespace deixis::nn {
@@ -22,6 +23,22 @@ struct Linear {
   Eigen::Matrix<float, Out, 1> run(const InputVector& x) const {
     Eigen::Matrix<float, Out, 1> y = bias.view();
     y.noalias() += weight.view() * x;
+    return y;
+  }
+
+  // The same as run(), visiting the weights in fixed blocks of output rows, last block first when
+  // `reverse` is set (for layers larger than the L2 cache; see panel_order.h).
+  template <typename InputVector>
+  Eigen::Matrix<float, Out, 1> run_in_panels(const InputVector& x, bool reverse) const {
+    constexpr int kPanel = panel_width(Out);
+    constexpr int kPanels = Out / kPanel;
+    Eigen::Matrix<float, Out, 1> y;
+    for (int k = 0; k < kPanels; ++k) {
+      const int p = reverse ? kPanels - 1 - k : k;
+      y.template segment<kPanel>(p * kPanel).noalias() =
+          weight.view().template middleRows<kPanel>(p * kPanel) * x;
+    }
+    y += bias.view();
     return y;
   }
 

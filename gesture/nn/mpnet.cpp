@@ -44,13 +44,16 @@ Mpnet Mpnet::load(const SafetensorsFile& file) {
   if (MpnetTransformer::recognises(file)) {
     return Mpnet(load_as<MpnetTransformer>(file));
   }
-  throw Error(file.source() +
-              ": not an MPNet checkpoint (expected the tensors of the GRU-MoE "
-              "'gating_network.gru.*', 'gru.*', 'moe_network.*'; the MLP 'linear1.weight' [24, 330]; "
-              "or the Transformer 'linear_input.*', 'transformer.layers.*')");
+  throw Error(
+      file.source() +
+      ": not an MPNet checkpoint (expected the tensors of the GRU-MoE "
+      "'gating_network.gru.*', 'gru.*', 'moe_network.*'; the MLP 'linear1.weight' [24, 330]; "
+      "or the Transformer 'linear_input.*', 'transformer.layers.*')");
 }
 
-Mpnet Mpnet::load(const std::filesystem::path& path) { return load(SafetensorsFile::read(path)); }
+Mpnet Mpnet::load(const std::filesystem::path& path) {
+  return load(SafetensorsFile::read(path));
+}
 
 MpnetArchitecture Mpnet::architecture() const {
   return static_cast<MpnetArchitecture>(networks_->net.index());

@@ -21,18 +21,21 @@ void MpnetGruMoe::load(const SafetensorsFile& file) {
 MpnetOutput MpnetGruMoe::run(MpnetWindow window, MpnetTrace* trace) const {
   const Eigen::Map<const WindowMatrix> x(window.data());
 
-  // Gating network: the target feature only.
-  Eigen::Matrix<float, kWindowRows, kExperts, Eigen::RowMajor> gating_hidden;
-  gating_l0.run<kWindowRows>(x.middleCols<5>(kMpnetTargetColumn), gating_hidden);
-  Eigen::Matrix<float, kWindowRows, kExperts, Eigen::RowMajor> gating_out;
-  gating_l1.run<kWindowRows>(gating_hidden, gating_out);
-  Eigen::Matrix<float, kExperts, 1> omega = gating_out.row(kWindowRows - 1).transpose();
+  // The gating network (2-layer GRU over the target feature) and the recurrent module (GRU over
+  // all 11 columns) are independent recurrences; stepping them in one loop lets the CPU overlap
+  // their dependency chains. Layer 2 of the gating GRU consumes layer 1's state of the same step.
+  const auto gi_gating = gating_l0.project_inputs<kWindowRows>(x.middleCols<5>(kMpnetTargetColumn));
+  const auto gi_recurrent = recurrent.project_inputs<kWindowRows>(x);
+  Eigen::Matrix<float, kExperts, 1> gating_h0 = Eigen::Matrix<float, kExperts, 1>::Zero();
+  Eigen::Matrix<float, kExperts, 1> gating_h1 = Eigen::Matrix<float, kExperts, 1>::Zero();
+  Eigen::Matrix<float, kRecurrentHidden, 1> z = Eigen::Matrix<float, kRecurrentHidden, 1>::Zero();
+  for (int t = 0; t < kWindowRows; ++t) {
+    gating_l0.step(gi_gating.row(t).transpose(), gating_h0);
+    gating_l1.step(gating_l1.project_input(gating_h0), gating_h1);
+    recurrent.step(gi_recurrent.row(t).transpose(), z);
+  }
+  Eigen::Matrix<float, kExperts, 1> omega = gating_h1;
   softmax_inplace(omega);
-
-  // Recurrent module: all 11 columns.
-  Eigen::Matrix<float, kWindowRows, kRecurrentHidden, Eigen::RowMajor> recurrent_out;
-  recurrent.run<kWindowRows>(x, recurrent_out);
-  const Eigen::Matrix<float, kRecurrentHidden, 1> z = recurrent_out.row(kWindowRows - 1).transpose();
 
   Eigen::Matrix<float, kExpertHidden, 1> h1 = expert_l1.run(z, omega);
   elu_inplace(h1);

@@ -36,6 +36,18 @@ class MatrixParam {
 template <int Size>
 using VectorParam = MatrixParam<Size, 1>;
 
+// dst = srcᵀ (both row-major).
+template <int Rows, int Cols>
+void transpose_into(const MatrixParam<Rows, Cols>& src, MatrixParam<Cols, Rows>& dst) {
+  auto out = dst.storage();
+  const auto in = src.storage();
+  for (int r = 0; r < Rows; ++r) {
+    for (int c = 0; c < Cols; ++c) {
+      out[static_cast<std::size_t>(c) * Rows + r] = in[static_cast<std::size_t>(r) * Cols + c];
+    }
+  }
+}
+
 // Loads a tensor of exactly `shape` (which must hold Rows × Cols values) into `param`.
 template <int Rows, int Cols>
 void load_param(const SafetensorsFile& file, const std::string& name,

@@ -56,7 +56,9 @@ Ugnet Ugnet::load(const SafetensorsFile& file) {
               "'time_mlp.*', 'sigma')");
 }
 
-Ugnet Ugnet::load(const std::filesystem::path& path) { return load(SafetensorsFile::read(path)); }
+Ugnet Ugnet::load(const std::filesystem::path& path) {
+  return load(SafetensorsFile::read(path));
+}
 
 UgnetArchitecture Ugnet::architecture() const {
   return static_cast<UgnetArchitecture>(networks_->net.index());

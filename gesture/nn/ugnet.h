@@ -22,7 +22,7 @@ std::string_view architecture_name(UgnetArchitecture architecture);
 
 // Intermediate values for parity tests; each architecture fills what it has.
 struct UgnetTrace {
-  std::array<float, 9> omega{};                                   // MoE gating softmax
+  std::array<float, 9> omega{};                                     // MoE gating softmax
   std::array<float, kDiffusionSteps * kPoseSize> denoised_steps{};  // diffusion x0 per step
 };
 

@@ -28,6 +28,7 @@ struct UgnetMoe {
   ExpertLayer<kExperts, kConditionSize, kHidden> expert_l1;
   ExpertLayer<kExperts, kHidden, kHidden> expert_l2;
   ExpertLayer<kExperts, kHidden, kPoseSize> expert_l3;
+  PanelOrder panel_order;  // alternates the weight traversal per call (panel_order.h)
 
   static bool recognises(const SafetensorsFile& file);
   void load(const SafetensorsFile& file);
@@ -40,6 +41,7 @@ struct UgnetMlp {
   Linear<kConditionSize, 4 * kConditionSize> linear1;
   Linear<4 * kConditionSize, kConditionSize> linear2;
   Linear<kConditionSize, kPoseSize> linear3;
+  PanelOrder panel_order;  // alternates the weight traversal per call (panel_order.h)
 
   static bool recognises(const SafetensorsFile& file);
   void load(const SafetensorsFile& file);
@@ -83,7 +85,7 @@ struct UgnetDiffusion {
   static constexpr int kBlocks = 10;
   static constexpr int kGroups = 16;
   static constexpr int kBlockInput = kHidden + kPoseSize + kConditionSize + kTimeEmbedding;  // 480
-  static constexpr int kFirstInput = kConditionSize + kPoseSize + kTimeEmbedding;           // 352
+  static constexpr int kFirstInput = kConditionSize + kPoseSize + kTimeEmbedding;            // 352
 
   // A linear layer of the denoiser, its weight split by the part of the concatenated input it
   // multiplies. `hidden` is absent (0 columns) for `fin`, whose input has no h.

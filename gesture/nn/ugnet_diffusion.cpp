@@ -25,11 +25,13 @@ Eigen::Matrix<float, Diffusion::kTimeEmbedding, 1> sinusoid(int t) {
 
 // Copies columns [first, first + count) of a row-major Rows × Cols tensor into `dst`.
 template <int Rows, int Count>
-void copy_columns(const std::vector<float>& src, int cols, int first, MatrixParam<Rows, Count>& dst) {
+void copy_columns(const std::vector<float>& src, int cols, int first,
+                  MatrixParam<Rows, Count>& dst) {
   auto out = dst.storage();
   for (int r = 0; r < Rows; ++r) {
     for (int c = 0; c < Count; ++c) {
-      out[static_cast<std::size_t>(r) * Count + c] = src[static_cast<std::size_t>(r) * cols + first + c];
+      out[static_cast<std::size_t>(r) * Count + c] =
+          src[static_cast<std::size_t>(r) * cols + first + c];
     }
   }
 }
@@ -37,11 +39,11 @@ void copy_columns(const std::vector<float>& src, int cols, int first, MatrixPara
 // Splits one linear layer of the denoiser. Its input columns are laid out as
 // [hidden_at, noisy_at, condition_at, time_at] (fin has no hidden part).
 template <int Out, int HiddenIn>
-void load_conditioned(const SafetensorsFile& file, const std::string& prefix, int hidden_at,
-                      int noisy_at, int condition_at, int time_at,
-                      const std::array<Eigen::Matrix<float, Diffusion::kTimeEmbedding, 1>, kSteps>&
-                          time_embeddings,
-                      Diffusion::ConditionedLinear<Out, HiddenIn>& layer) {
+void load_conditioned(
+    const SafetensorsFile& file, const std::string& prefix, int hidden_at, int noisy_at,
+    int condition_at, int time_at,
+    const std::array<Eigen::Matrix<float, Diffusion::kTimeEmbedding, 1>, kSteps>& time_embeddings,
+    Diffusion::ConditionedLinear<Out, HiddenIn>& layer) {
   constexpr int kIn = HiddenIn + kPoseSize + kConditionSize + Diffusion::kTimeEmbedding;
   const std::int64_t weight_shape[] = {Out, kIn};
   const std::vector<float> w = file.read_f32(prefix + ".weight", weight_shape);
@@ -64,8 +66,8 @@ void load_conditioned(const SafetensorsFile& file, const std::string& prefix, in
 
 // GroupNorm(16 groups, 128 channels, eps 1e-5, per-channel affine) on one sample, then SiLU.
 Eigen::Matrix<float, Diffusion::kHidden, 1> group_norm_silu(
-    const Eigen::Matrix<float, Diffusion::kHidden, 1>& h, const VectorParam<Diffusion::kHidden>& gamma,
-    const VectorParam<Diffusion::kHidden>& beta) {
+    const Eigen::Matrix<float, Diffusion::kHidden, 1>& h,
+    const VectorParam<Diffusion::kHidden>& gamma, const VectorParam<Diffusion::kHidden>& beta) {
   constexpr int kPerGroup = Diffusion::kHidden / Diffusion::kGroups;
   Eigen::Matrix<float, Diffusion::kHidden, 1> out;
   for (int g = 0; g < Diffusion::kGroups; ++g) {

@@ -15,9 +15,10 @@ void UgnetMlp::load(const SafetensorsFile& file) {
 
 PoseVector UgnetMlp::run(UgnetWindow window) const {
   const ConditionVector c = condition_vector(window);
-  Eigen::Matrix<float, 4 * kConditionSize, 1> h1 = linear1.run(c);
+  const bool reverse = panel_order.next_is_reversed();
+  Eigen::Matrix<float, 4 * kConditionSize, 1> h1 = linear1.run_in_panels(c, reverse);
   elu_inplace(h1);
-  Eigen::Matrix<float, kConditionSize, 1> h2 = linear2.run(h1);
+  Eigen::Matrix<float, kConditionSize, 1> h2 = linear2.run_in_panels(h1, reverse);
   elu_inplace(h2);
   PoseVector out;
   Eigen::Map<Eigen::Matrix<float, kPoseSize, 1>>(out.data()) = linear3.run(h2);

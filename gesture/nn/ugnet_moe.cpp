@@ -29,20 +29,25 @@ void UgnetMoe::load(const SafetensorsFile& file) {
 PoseVector UgnetMoe::run(UgnetWindow window, UgnetTrace* trace) const {
   const Eigen::Map<const UgnetWindowMatrix> x(window.data());
 
-  Eigen::Matrix<float, kWindowRows, kExperts, Eigen::RowMajor> gating_hidden;
-  gating_l0.run<kWindowRows>(x.rightCols<kConditionColumns>(), gating_hidden);
-  Eigen::Matrix<float, kWindowRows, kExperts, Eigen::RowMajor> gating_out;
-  gating_l1.run<kWindowRows>(gating_hidden, gating_out);
-  Eigen::Matrix<float, kExperts, 1> omega = gating_out.row(kWindowRows - 1).transpose();
+  // Gating network: the 2-layer GRU over the conditioning columns, layer 2 stepped with layer 1.
+  const auto gi_gating = gating_l0.project_inputs<kWindowRows>(x.rightCols<kConditionColumns>());
+  using Gating = Eigen::Matrix<float, kExperts, 1>;
+  Gating gating_h0 = Gating::Zero();
+  Gating omega = Gating::Zero();
+  for (int t = 0; t < kWindowRows; ++t) {
+    gating_l0.step(gi_gating.row(t).transpose(), gating_h0);
+    gating_l1.step(gating_l1.project_input(gating_h0), omega);
+  }
   softmax_inplace(omega);
 
   const ConditionVector c = condition_vector(window);
-  Eigen::Matrix<float, kHidden, 1> h1 = expert_l1.run(c, omega);
+  const bool reverse = panel_order.next_is_reversed();
+  Eigen::Matrix<float, kHidden, 1> h1 = expert_l1.run(c, omega, reverse);
   elu_inplace(h1);
-  Eigen::Matrix<float, kHidden, 1> h2 = expert_l2.run(h1, omega);
+  Eigen::Matrix<float, kHidden, 1> h2 = expert_l2.run(h1, omega, reverse);
   elu_inplace(h2);
   PoseVector out;
-  Eigen::Map<Eigen::Matrix<float, kPoseSize, 1>>(out.data()) = expert_l3.run(h2, omega);
+  Eigen::Map<Eigen::Matrix<float, kPoseSize, 1>>(out.data()) = expert_l3.run(h2, omega, reverse);
 
   if (trace != nullptr) {
     Eigen::Map<Eigen::Matrix<float, kExperts, 1>>(trace->omega.data()) = omega;
