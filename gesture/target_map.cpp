@@ -1,0 +1,225 @@
+#include "gesture/target_map.h"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "gesture/error.h"
+
+namespace deixis {
+
+namespace {
+
+using json = nlohmann::json;
+
+struct Kind {
+  TargetKind kind;
+  std::string_view name;
+};
+constexpr Kind kKinds[] = {
+    {TargetKind::kSphere, "sphere"}, {TargetKind::kBox, "box"}, {TargetKind::kScreen, "screen"}};
+
+// Reports errors as "<source>: <path>: <what>".
+class Reader {
+ public:
+  explicit Reader(std::string_view source) : source_(source) {}
+
+  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
+    throw Error(source_ + ": " + (path.empty() ? "" : path + ": ") + what);
+  }
+
+  const json& member(const json& object, const std::string& path, const char* key) const {
+    if (!object.contains(key)) {
+      fail(path, std::string("missing field '") + key + "'");
+    }
+    return object[key];
+  }
+
+  std::string string(const json& j, const std::string& path) const {
+    if (!j.is_string()) {
+      fail(path, std::string("expected a string, found ") + j.type_name());
+    }
+    return j.get<std::string>();
+  }
+
+  float finite_number(const json& j, const std::string& path) const {
+    if (!j.is_number()) {
+      fail(path, "not a finite number");
+    }
+    const double v = j.get<double>();
+    if (!std::isfinite(v) || std::abs(v) > 1e6) {
+      fail(path, "not a finite number");
+    }
+    return static_cast<float>(v);
+  }
+
+  Vec3 vec3(const json& j, const std::string& path) const {
+    if (!j.is_array() || j.size() != 3) {
+      fail(path, "expected [x, y, z]");
+    }
+    return {finite_number(j[0], path + "[0]"), finite_number(j[1], path + "[1]"),
+            finite_number(j[2], path + "[2]")};
+  }
+
+ private:
+  std::string source_;
+};
+
+TargetObject parse_object(const Reader& r, const json& j, const std::string& path) {
+  if (!j.is_object()) {
+    r.fail(path, "expected an object");
+  }
+  for (const auto& [key, value] : j.items()) {
+    if (key != "id" && key != "name" && key != "kind" && key != "position" && key != "size") {
+      r.fail(path, "unknown field '" + key + "'");
+    }
+  }
+  TargetObject object;
+  const json& id = r.member(j, path, "id");
+  if (!id.is_number_integer() || id.get<std::int64_t>() < 1 || id.get<std::int64_t>() > 1'000'000) {
+    r.fail(path + ".id", "expected an integer from 1 to 1000000 (0 is the other person)");
+  }
+  object.id = static_cast<TargetId>(id.get<std::int64_t>());
+  object.name = r.string(r.member(j, path, "name"), path + ".name");
+  if (object.name.empty() || object.name.size() > 64) {
+    r.fail(path + ".name", "expected 1 to 64 characters");
+  }
+  const std::string kind = r.string(r.member(j, path, "kind"), path + ".kind");
+  bool known = false;
+  for (const Kind& k : kKinds) {
+    if (k.name == kind) {
+      object.kind = k.kind;
+      known = true;
+    }
+  }
+  if (!known) {
+    r.fail(path + ".kind", "unknown kind '" + kind + "' (expected sphere, box or screen)");
+  }
+  object.position = r.vec3(r.member(j, path, "position"), path + ".position");
+  object.size = r.vec3(r.member(j, path, "size"), path + ".size");
+  for (int k = 0; k < 3; ++k) {
+    if (!(object.size[k] > 0.0f) || object.size[k] > 100.0f) {
+      r.fail(path + ".size[" + std::to_string(k) + "]", "expected a size in (0, 100] m");
+    }
+  }
+  return object;
+}
+
+}  // namespace
+
+std::string_view kind_name(TargetKind kind) {
+  for (const Kind& k : kKinds) {
+    if (k.kind == kind) {
+      return k.name;
+    }
+  }
+  return "?";
+}
+
+const TargetObject* TargetMap::find(TargetId id) const {
+  for (const TargetObject& o : objects) {
+    if (o.id == id) {
+      return &o;
+    }
+  }
+  return nullptr;
+}
+
+TargetMap parse_target_map(std::string_view json_text, std::string_view source) {
+  const Reader r(source);
+  json j;
+  try {
+    j = json::parse(json_text);
+  } catch (const json::parse_error& e) {
+    r.fail("", std::string("not valid JSON: ") + e.what());
+  }
+  if (!j.is_object()) {
+    r.fail("", "expected a JSON object");
+  }
+  const std::string format = r.string(r.member(j, "", "format"), "format");
+  if (format != "deixis-target-map") {
+    r.fail("format", "expected \"deixis-target-map\", found \"" + format + "\"");
+  }
+  const json& version = r.member(j, "", "version");
+  if (!version.is_number_integer() || version.get<int>() != TargetMap::kFormatVersion) {
+    r.fail("version", "this Deixis reads version " + std::to_string(TargetMap::kFormatVersion) +
+                          ", found " + version.dump());
+  }
+  TargetMap map;
+  map.site = r.string(r.member(j, "", "site"), "site");
+  const json& objects = r.member(j, "", "objects");
+  if (!objects.is_array()) {
+    r.fail("objects", "expected an array");
+  }
+  if (objects.size() > 256) {
+    r.fail("objects", "more than 256 objects");
+  }
+  std::set<TargetId> ids;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const std::string path = "objects[" + std::to_string(i) + "]";
+    TargetObject object = parse_object(r, objects[i], path);
+    if (!ids.insert(object.id).second) {
+      r.fail(path + ".id", "id " + std::to_string(object.id) + " is used twice");
+    }
+    map.objects.push_back(std::move(object));
+  }
+  return map;
+}
+
+TargetMap read_target_map(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) {
+    throw Error(path.string() + ": cannot open");
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_target_map(text.str(), path.string());
+}
+
+std::string to_json(const TargetMap& map) {
+  json objects = json::array();
+  for (const TargetObject& o : map.objects) {
+    objects.push_back({{"id", o.id},
+                       {"name", o.name},
+                       {"kind", kind_name(o.kind)},
+                       {"position", {o.position.x(), o.position.y(), o.position.z()}},
+                       {"size", {o.size.x(), o.size.y(), o.size.z()}}});
+  }
+  const json j = {{"format", "deixis-target-map"},
+                  {"version", TargetMap::kFormatVersion},
+                  {"site", map.site},
+                  {"objects", objects}};
+  return j.dump(2) + "\n";
+}
+
+Vec3 closest_surface_point(const TargetObject& object, const Vec3& p) {
+  const Vec3 offset = p - object.position;
+  if (object.kind == TargetKind::kSphere) {
+    const float radius = object.size.x() / 2.0f;
+    const float n = offset.norm();
+    return n > 1e-6f ? Vec3(object.position + offset * (radius / n))
+                     : Vec3(object.position + Vec3(0, radius, 0));
+  }
+  const Vec3 half = object.size / 2.0f;
+  const Vec3 inside = offset.cwiseMax(-half).cwiseMin(half);
+  if (inside != offset) {
+    return object.position + inside;  // p is outside: the clamped point is on the surface
+  }
+  // p is inside: push it out through the nearest face.
+  int axis = 0;
+  float best = half[0] - std::abs(offset[0]);
+  for (int k = 1; k < 3; ++k) {
+    const float gap = half[k] - std::abs(offset[k]);
+    if (gap < best) {
+      best = gap;
+      axis = k;
+    }
+  }
+  Vec3 surface = offset;
+  surface[axis] = offset[axis] >= 0.0f ? half[axis] : -half[axis];
+  return object.position + surface;
+}
+
+}  // namespace deixis
