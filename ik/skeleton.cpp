@@ -1,0 +1,48 @@
+#include "ik/skeleton.h"
+
+#include "gesture/error.h"
+
+namespace deixis::ik {
+
+int Skeleton::find(std::string_view name) const {
+  for (int i = 0; i < joint_count(); ++i) {
+    if (joint_names[i] == name) {
+      return i;
+    }
+  }
+  return -1;
+}
+
+void validate(const Skeleton& skeleton, std::string_view source) {
+  const std::size_t n = skeleton.parents.size();
+  if (skeleton.joint_names.size() != n || skeleton.rest_local.size() != n) {
+    throw Error(std::string(source) + ": skeleton has " + std::to_string(n) + " parents, " +
+                std::to_string(skeleton.joint_names.size()) + " names and " +
+                std::to_string(skeleton.rest_local.size()) + " rest poses");
+  }
+  if (n == 0 || n > 1024) {
+    throw Error(std::string(source) + ": skeleton has " + std::to_string(n) +
+                " joints (expected 1 to 1024)");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const int parent = skeleton.parents[i];
+    if (parent != kNoParent && (parent < 0 || parent >= static_cast<int>(i))) {
+      throw Error(std::string(source) + ": joint '" + skeleton.joint_names[i] + "' has parent " +
+                  std::to_string(parent) + ", not an earlier joint (depth-first order)");
+    }
+    if (!is_finite(skeleton.rest_local[i])) {
+      throw Error(std::string(source) + ": joint '" + skeleton.joint_names[i] +
+                  "' has a non-finite rest pose");
+    }
+  }
+}
+
+void local_to_model(const Skeleton& skeleton, std::span<const Pose> local, std::span<Pose> model) {
+  const int n = skeleton.joint_count();
+  for (int i = 0; i < n; ++i) {
+    const int parent = skeleton.parents[i];
+    model[i] = parent == kNoParent ? local[i] : compose(model[parent], local[i]);
+  }
+}
+
+}  // namespace deixis::ik
