@@ -9,6 +9,7 @@
 #include "gesture/nn/amnet.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
+#include "gesture/translation_loop.h"
 
 namespace deixis {
 
@@ -187,6 +188,88 @@ void run_amnet(const SafetensorsFile& fixture, const std::filesystem::path& chec
   compare_all(fixture, out, kAmnetTolerance, report);
 }
 
+// A chained rollout fixture (NOTES §10.3): the translation loop over 120 steps. Arrays with 150
+// rows are padded-frame indexed (rows 0–29 copy the first real frame); step t reads rows t…t+29
+// and writes the avatar's row t+30.
+void run_rollout(const SafetensorsFile& fixture, const std::filesystem::path& reference_dir,
+                 ParityReport& report) {
+  const std::string& checkpoints = fixture.metadata_value("checkpoints");
+  const std::size_t plus = checkpoints.find(" + ");
+  if (plus == std::string::npos) {
+    throw Error(fixture.source() +
+                ": __metadata__.checkpoints: expected \"<MPNet> + <UGNet>\", found \"" +
+                checkpoints + "\"");
+  }
+  const nn::Mpnet mpnet = nn::Mpnet::load(reference_dir / checkpoints.substr(0, plus));
+  const nn::Ugnet ugnet = nn::Ugnet::load(reference_dir / checkpoints.substr(plus + 3));
+  report.checkpoint = checkpoints;
+  report.network = "translation loop: MPNet " +
+                   std::string(architecture_name(mpnet.architecture())) + " + UGNet " +
+                   std::string(architecture_name(ugnet.architecture()));
+
+  const std::int64_t steps = batch_of(fixture, "mpnet_output", {nn::kProgressionSize});
+  const std::int64_t rows = steps + nn::kWindowRows;
+  const auto read = [&](const char* name, std::vector<std::int64_t> shape) {
+    return fixture.read_f32(name, shape);
+  };
+  const std::vector<float> features = read("user_features", {rows, nn::kMpnetFeatures});
+  const std::vector<float> user_pose = read("user_pose", {rows, nn::kPoseSize});
+  const std::vector<float> targets = read("avatar_target_feature", {rows, kTargetFeatureSize});
+  const std::vector<float> initial = read("avatar_pose_init", {nn::kPoseSize});
+  const float scale = read("scale", {1})[0];
+  if (!(scale > 0.0f)) {
+    throw Error(fixture.source() + ": tensor 'scale': expected a positive size ratio");
+  }
+  const auto frame = [&](std::int64_t row) {
+    TranslationInput in;
+    std::copy_n(features.begin() + row * nn::kMpnetFeatures, nn::kMpnetFeatures,
+                in.user_features.begin());
+    std::copy_n(user_pose.begin() + row * nn::kPoseSize, nn::kPoseSize, in.user_x.begin());
+    std::copy_n(targets.begin() + row * kTargetFeatureSize, kTargetFeatureSize,
+                in.avatar_target.begin());
+    return in;
+  };
+
+  TranslationLoop loop(mpnet, ugnet, scale);
+  EndEffectors avatar_initial;
+  std::copy(initial.begin(), initial.end(), avatar_initial.begin());
+  loop.reset(frame(0), avatar_initial);
+  Outputs out;
+  // The padded first rows of the avatar pose are the initial pose itself.
+  for (int r = 0; r < nn::kWindowRows; ++r) {
+    append(out["avatar_pose"], avatar_initial);
+  }
+  for (std::int64_t t = 0; t < steps; ++t) {
+    // What the networks read and produced at the authors' step t: our reset (t = 0) or the end
+    // of our previous step.
+    append(out["mpnet_input"], loop.mpnet_window());
+    append(out["ugnet_input"], loop.ugnet_window());
+    append(out["mpnet_output"], loop.progression());
+    append(out["ugnet_output"], loop.prediction());
+    const float* progression_column =
+        loop.ugnet_window().data() + nn::kPoseSize + kTargetFeatureSize;
+    for (int r = 0; r < nn::kWindowRows; ++r) {
+      out["progression_window"].insert(out["progression_window"].end(),
+                                       progression_column + r * nn::kUgnetColumns,
+                                       progression_column + r * nn::kUgnetColumns + 3);
+    }
+    const TranslationStep step = loop.step(frame(t + nn::kWindowRows));
+    append(out["avatar_pose"], step.avatar_x);
+    out["head_blend"].push_back(step.head_weight);
+    out["hand_blend"].push_back(step.hand_weight);
+  }
+  report.windows = static_cast<int>(steps);
+  for (auto& [name, values] : out.tensors) {
+    const double tolerance = name == "mpnet_output" || name == "progression_window"
+                                 ? kMpnetTolerance
+                                 : kRolloutTolerance;
+    compare(fixture, name, values, tolerance, report);
+    if (name == "avatar_pose") {
+      compare(fixture, "avatar_pose_f64", values, tolerance, report);
+    }
+  }
+}
+
 }  // namespace
 
 ParityReport check_parity(const std::filesystem::path& fixture_path,
@@ -195,9 +278,8 @@ ParityReport check_parity(const std::filesystem::path& fixture_path,
   ParityReport report;
   report.fixture = fixture_path.string();
   if (fixture.metadata().count("checkpoints") != 0) {
-    throw Error(fixture.source() +
-                ": a chained rollout fixture (MPNet → blend → UGNet); it is checked by the "
-                "translator's parity (`deixis parity` supports single-network fixtures)");
+    run_rollout(fixture, reference_dir, report);
+    return report;
   }
   const std::filesystem::path checkpoint = reference_dir / fixture.metadata_value("checkpoint");
   report.checkpoint = checkpoint.string();

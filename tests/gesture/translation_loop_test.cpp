@@ -1,0 +1,89 @@
+// The translation loop reproduces the authors' chained harness (NOTES §5.2, §10.3): both rollout
+// fixtures, 120 steps of MPNet MoE → progression window → UGNet MoE → blend, step by step.
+
+#include "gesture/translation_loop.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "gesture/parity.h"
+#include "test_support.h"
+
+namespace deixis {
+namespace {
+
+namespace fs = std::filesystem;
+
+class RolloutParity : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RolloutParity, ReproducesTheAuthorsChainedHarness) {
+  // check_parity runs the loop over the fixture's 120 steps and compares every recorded tensor:
+  // network inputs and outputs per step, blend weights, and the avatar pose (float32 and
+  // float64 rollouts) within 1e-5.
+  const fs::path fixture = testing::reference_dir() / "fixtures" /
+                           ("rollout_MPNet_MoE_UGNet_MoE_" + GetParam() + ".safetensors");
+  const ParityReport report = check_parity(fixture, testing::reference_dir());
+  EXPECT_EQ(report.windows, 120);
+  std::vector<std::string> compared;
+  for (const ParityCheck& check : report.checks) {
+    compared.push_back(check.tensor);
+    EXPECT_TRUE(check.passed()) << check.tensor << " max |error| " << check.max_abs_error << " > "
+                                << check.tolerance;
+    std::printf("[ measured ] %s %s: %.2g\n", GetParam().c_str(), check.tensor.c_str(),
+                check.max_abs_error);
+  }
+  for (const char* tensor :
+       {"avatar_pose", "avatar_pose_f64", "mpnet_input", "ugnet_input", "mpnet_output",
+        "ugnet_output", "progression_window", "head_blend", "hand_blend"}) {
+    EXPECT_NE(std::find(compared.begin(), compared.end(), tensor), compared.end()) << tensor;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(BothHands, RolloutParity, ::testing::Values("right", "left"),
+                         [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
+
+TEST(BlendCounters, RiseWhileFreeAndFallWhileGesturing) {
+  BlendCounters c;
+  for (int i = 0; i < 25; ++i) {
+    c.update({0.1f, 0.1f, 0.0f});  // free-form: neither gaze nor deictic progression
+  }
+  EXPECT_EQ(c.head, BlendCounters::kMax);
+  EXPECT_EQ(c.hand, BlendCounters::kMax);
+  EXPECT_FLOAT_EQ(c.head_weight(), 1.0f);
+  c.update({0.9f, 0.1f, 0.0f});  // gazing at a target: head falls, hand keeps rising (capped)
+  EXPECT_EQ(c.head, BlendCounters::kMax - 1);
+  EXPECT_EQ(c.hand, BlendCounters::kMax);
+  c.update({0.1f, 0.1f, 0.5f});  // idle: both fall
+  EXPECT_EQ(c.head, BlendCounters::kMax - 2);
+  EXPECT_EQ(c.hand, BlendCounters::kMax - 1);
+  for (int i = 0; i < 40; ++i) {
+    c.update({1.0f, 1.0f, 0.0f});
+  }
+  EXPECT_EQ(c.head, 0);
+  EXPECT_EQ(c.hand, 0);
+}
+
+TEST(Blend, WeightOneCopiesTheUserWeightZeroScalesThePrediction) {
+  EndEffectors predicted{}, user{};
+  for (int i = 0; i < kEndEffectorSize; ++i) {
+    predicted[i] = 0.5f + 0.01f * static_cast<float>(i);
+    user[i] = -0.3f + 0.02f * static_cast<float>(i);
+  }
+  const EndEffectors copied = blend_end_effectors(predicted, user, 1.0f, 1.0f, 1.25f);
+  for (const int at : {ee::kHeadPosition, ee::kHandPosition, ee::kFingertip}) {
+    EXPECT_TRUE(get_vec3(copied, at).isApprox(get_vec3(user, at), 1e-6f)) << at;
+  }
+  EXPECT_NEAR(get_vec3(copied, ee::kGaze).norm(), 1.0f, 1e-6f);  // renormalised
+  const EndEffectors generated = blend_end_effectors(predicted, user, 0.0f, 0.0f, 1.25f);
+  // With the hand weight 0 the hand position is the prediction scaled by 1/scale (user 25 %
+  // larger than the avatar: the avatar's reach shrinks accordingly).
+  EXPECT_TRUE(get_vec3(generated, ee::kHandPosition)
+                  .isApprox(get_vec3(predicted, ee::kHandPosition) / 1.25f, 1e-6f));
+  EXPECT_TRUE(get_vec3(generated, ee::kHeadPosition)
+                  .isApprox(get_vec3(predicted, ee::kHeadPosition), 1e-6f));
+}
+
+}  // namespace
+}  // namespace deixis
