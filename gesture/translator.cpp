@@ -1,0 +1,136 @@
+#include "gesture/translator.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace deixis {
+
+namespace {
+
+bool finite(const Vec3& v) {
+  return v.allFinite();
+}
+
+bool finite(const TrackingFrame& f) {
+  return std::isfinite(f.time) && is_finite(f.T_world_head) && finite(f.gaze) &&
+         is_finite(f.T_world_wrist[0]) && is_finite(f.T_world_wrist[1]) && finite(f.index_tip[0]) &&
+         finite(f.index_tip[1]) && finite(f.head_target_position) && finite(f.hand_target_position);
+}
+
+// The avatar starts where the user is, scaled to its size.
+EndEffectors initial_avatar(const EndEffectors& user, float scale) {
+  EndEffectors x = user;
+  for (const int at : {ee::kHandPosition, ee::kFingertip}) {
+    set_vec3(x, at, get_vec3(x, at) / scale);
+  }
+  return x;
+}
+
+}  // namespace
+
+Translator::Translator(nn::Mpnet mpnet, nn::Ugnet ugnet, const TranslatorConfig& config)
+    : config_(config),
+      loop_(mpnet, ugnet, config.user.height / config.avatar_height),
+      rng_(config.noise_seed),
+      needs_noise_(ugnet.needs_noise()) {}
+
+bool Translator::usable(const TrackingFrame& frame) const {
+  const std::uint8_t needed =
+      tracked::kHead | tracked::kGaze | tracked::hand(config_.user.deictic_hand);
+  return (frame.valid & needed) == needed && frame.head_target != kNoTarget &&
+         frame.hand_target != kNoTarget && finite(frame) && frame.gaze.norm() > 1e-6f;
+}
+
+Vec3 Translator::avatar_target_position(TargetId id, const Vec3& user_position,
+                                        const LocalTargets& room) {
+  if (id == kPartnerTarget) {
+    return room.partner_head;
+  }
+  if (room.map != nullptr) {
+    if (const TargetObject* object = room.map->find(id)) {
+      return object->position;
+    }
+  }
+  // This room has no copy of the object: keep the user's target where it is relative to the
+  // user's root, seen from the avatar's root (what copying the pose would do).
+  ++stats_.unknown_targets;
+  const Vec3 in_user_root = transform_point(inverse(config_.user.T_world_root), user_position);
+  return transform_point(config_.T_world_avatar_root, in_user_root);
+}
+
+TranslationInput Translator::input_for(const TrackingFrame& frame, const LocalTargets& room) {
+  TranslationInput in;
+  in.user_features = mpnet_features(frame, config_.user);
+  in.user_x = end_effectors(frame, config_.user);
+  in.avatar_target = target_feature_from_root(
+      config_.T_world_avatar_root,
+      avatar_target_position(frame.head_target, frame.head_target_position, room),
+      avatar_target_position(frame.hand_target, frame.hand_target_position, room),
+      config_.user.deictic_hand);
+  return in;
+}
+
+std::span<const float> Translator::draw_noise() {
+  if (!needs_noise_) {
+    return {};
+  }
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  for (float& v : noise_) {
+    v = normal(rng_);
+  }
+  return noise_;
+}
+
+AvatarFrame Translator::tick(const TrackingFrame* frame, const LocalTargets& room) {
+  ++stats_.ticks;
+  AvatarFrame out;
+  out.deictic_hand = config_.user.deictic_hand;
+  if (frame != nullptr && usable(*frame)) {
+    last_valid_ = *frame;
+    const Hand other_hand = other(config_.user.deictic_hand);
+    if ((frame->valid & tracked::hand(other_hand)) != 0) {
+      last_other_wrist_in_head_ =
+          compose(inverse(frame->T_world_head), frame->T_world_wrist[index(other_hand)]);
+    }
+  } else {
+    if (frame != nullptr) {
+      ++stats_.rejected_frames;
+    }
+    if (!started_) {
+      return out;  // nothing valid yet: the avatar stays hidden
+    }
+    ++stats_.held;
+    out.held = true;
+  }
+
+  const TranslationInput input = input_for(last_valid_, room);
+  if (!started_) {
+    loop_.reset(input, initial_avatar(input.user_x, loop_.scale()), draw_noise());
+    started_ = true;
+  }
+  TranslationStep step = loop_.step(input, draw_noise());
+  if (!std::all_of(step.avatar_x.begin(), step.avatar_x.end(),
+                   [](float v) { return std::isfinite(v); })) {
+    // Finite inputs never produced this in any test, but a pose must never carry NaN: start over
+    // from the user's current pose.
+    ++stats_.restarts;
+    loop_.reset(input, initial_avatar(input.user_x, loop_.scale()), draw_noise());
+    step = loop_.step(input, draw_noise());
+    if (!std::all_of(step.avatar_x.begin(), step.avatar_x.end(),
+                     [](float v) { return std::isfinite(v); })) {
+      step.avatar_x = initial_avatar(input.user_x, loop_.scale());
+    }
+  }
+
+  out.ready = true;
+  out.deictic =
+      decode_end_effectors(step.avatar_x, config_.T_world_avatar_root, config_.user.deictic_hand);
+  out.other_wrist_in_head = last_other_wrist_in_head_;
+  out.other_wrist_in_head.translation /= loop_.scale();
+  out.progression = step.progression;
+  out.head_weight = step.head_weight;
+  out.hand_weight = step.hand_weight;
+  return out;
+}
+
+}  // namespace deixis

@@ -1,0 +1,86 @@
+#pragma once
+// The translator of one remote person (DESIGN §6; issue 6): every tick it takes that person's
+// tracking frame (from their room) and this room's targets, and returns where the person's avatar
+// in *this* room has its head, eyes, deictic hand and index fingertip, so that it looks, points
+// and touches at this room's copies of the objects while free-form gestures pass through.
+//
+//   tracking frame ──features.h──▶ MPNet row, user x ─┐
+//   this room's target positions ──▶ avatar target ───┴─▶ TranslationLoop ─▶ avatar x
+//   avatar x ──decode_end_effectors──▶ world poses for IK
+//
+// Missed tracking (no frame, a part flagged invalid, NaN or Inf anywhere) holds the last valid
+// frame and is counted; nothing non-finite ever reaches the output. Per-person state is fixed
+// size (TranslationLoop::kStateBytes plus the held frame); tick() never allocates.
+
+#include <cstdint>
+#include <random>
+
+#include "gesture/target_map.h"
+#include "gesture/translation_loop.h"
+
+namespace deixis {
+
+struct TranslatorConfig {
+  BodyCalibration user;      // the remote person, in their room (from their hello)
+  Pose T_world_avatar_root;  // where their avatar stands in this room: its root O, yaw-only
+  float avatar_height = 1.70f;
+  std::uint32_t noise_seed = 1;  // for a diffusion UGNet's draws
+};
+
+// What this room knows about targets: its target map and where the local user's head is (the
+// "other person" target, id 0, for the avatar).
+struct LocalTargets {
+  const TargetMap* map = nullptr;
+  Vec3 partner_head = Vec3::Zero();
+};
+
+struct AvatarFrame {
+  bool ready = false;  // false until the first valid frame: the avatar is not shown
+  bool held = false;   // this tick reused the last valid frame (missed tracking)
+  Hand deictic_hand = Hand::kRight;
+  EndEffectorPoses deictic;  // head, gaze, deictic wrist and index fingertip, this room's world
+  // The non-deictic wrist in the head frame, positions scaled to the avatar's size: IK keeps its
+  // azimuth, elevation and distance from the head (DESIGN §6).
+  Pose other_wrist_in_head;
+  nn::Progression progression{};
+  float head_weight = 0.0f;
+  float hand_weight = 0.0f;
+};
+
+struct TranslatorStats {
+  std::uint64_t ticks = 0;
+  std::uint64_t held = 0;             // ticks that reused the last valid frame
+  std::uint64_t rejected_frames = 0;  // frames with a non-finite number or missing parts
+  std::uint64_t unknown_targets = 0;  // target ids this room's map lacks (copied instead)
+  std::uint64_t restarts = 0;  // the loop restarted because a network produced a non-finite value
+};
+
+class Translator {
+ public:
+  Translator(nn::Mpnet mpnet, nn::Ugnet ugnet, const TranslatorConfig& config);
+
+  // One tick. `frame` is null when no frame arrived in time (a gap in the stream).
+  AvatarFrame tick(const TrackingFrame* frame, const LocalTargets& room);
+
+  const TranslatorStats& stats() const { return stats_; }
+  float scale() const { return loop_.scale(); }
+  const TranslatorConfig& config() const { return config_; }
+
+ private:
+  bool usable(const TrackingFrame& frame) const;
+  Vec3 avatar_target_position(TargetId id, const Vec3& user_position, const LocalTargets& room);
+  TranslationInput input_for(const TrackingFrame& frame, const LocalTargets& room);
+  std::span<const float> draw_noise();
+
+  TranslatorConfig config_;
+  TranslationLoop loop_;
+  bool started_ = false;
+  TrackingFrame last_valid_;
+  Pose last_other_wrist_in_head_;  // the non-deictic hand may be lost on its own
+  TranslatorStats stats_;
+  std::mt19937 rng_;
+  std::array<float, nn::kDiffusionNoiseSize> noise_{};
+  bool needs_noise_ = false;
+};
+
+}  // namespace deixis

@@ -1,0 +1,48 @@
+// A translator tick allocates nothing: features, MPNet, blend, UGNet, decode, missed tracking.
+
+#include <gtest/gtest.h>
+
+#include "allocation_counter.h"
+#include "gesture/translator.h"
+#include "test_support.h"
+#include "tracking_frames.h"
+
+namespace deixis {
+namespace {
+
+TEST(HotPath, TranslatorTicksAllocateNothing) {
+  const auto weights = testing::reference_dir() / "weights/left";
+  testing::StandingPerson person(Hand::kLeft, 1.62f);
+  TranslatorConfig config;
+  config.user = person.body;
+  config.T_world_avatar_root = Pose{yaw_rotation(-0.3f), Vec3(1, 1.6f, 2)};
+  for (const char* ugnet :
+       {"UGNet(MoE)(AC)120.safetensors", "UGNet(Diffusion)(AC)120.safetensors"}) {
+    Translator translator(nn::Mpnet::load(weights / "MPNet(MoE)(AC)80.safetensors"),
+                          nn::Ugnet::load(weights / ugnet), config);
+    TargetMap room;
+    room.objects.push_back(
+        {1, "Box", TargetKind::kBox, Vec3(0.4f, 1.0f, 1.4f), Vec3(0.3f, 0.3f, 0.3f)});
+    const LocalTargets targets{&room, Vec3(1, 1.6f, 0)};
+    TrackingFrame frame = person.frame;
+    float sink = 0.0f;
+    const auto tick = [&](int i) {
+      frame.T_world_head.translation.x() = 0.01f * static_cast<float>(i % 7);
+      const AvatarFrame a = translator.tick(i % 10 == 9 ? nullptr : &frame, targets);
+      sink += a.deictic.index_tip.x();
+    };
+    for (int i = 0; i < 10; ++i) {
+      tick(i);
+    }
+    const int ticks = std::string(ugnet).find("Diffusion") != std::string::npos ? 100 : 1000;
+    testing::AllocationCounter counter;
+    for (int i = 0; i < ticks; ++i) {
+      tick(i);
+    }
+    EXPECT_EQ(counter.count(), 0u) << ugnet;
+    EXPECT_TRUE(std::isfinite(sink));
+  }
+}
+
+}  // namespace
+}  // namespace deixis
