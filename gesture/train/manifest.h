@@ -1,0 +1,43 @@
+#pragma once
+// The manifest written next to exported weights: how they were made, so that a figure or a
+// shipped file can be traced to its command, data and code.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "gesture/train/checkpoint.h"
+#include "gesture/train/schedule.h"
+
+namespace deixis::train {
+
+struct Manifest {
+  std::string weights_file;  // file name of the weights this describes
+  std::string network;       // "MPNet(MoE)"
+  std::string variant;       // "AC" / "DG"
+  std::string hand;          // "right" / "left"
+  std::string command_line;
+  std::uint64_t seed = 0;
+  int threads = 1;
+  std::string commit;
+  std::string dataset_hash;  // sha256 over the dataset files' hashes (dataset_hash())
+  std::vector<std::string> dataset_files;
+  std::size_t train_examples = 0;
+  std::size_t validation_examples = 0;
+  std::size_t parameter_count = 0;
+  Schedule schedule;
+  double train_seconds = 0;  // wall time spent training, summed over resumed runs
+  std::vector<EpochReport> history;
+};
+
+void write_manifest(const std::filesystem::path& path, const Manifest& manifest);
+
+// SHA-256 of a file's bytes, lower-case hex.
+std::string sha256_file(const std::filesystem::path& path);
+// SHA-256 of the concatenated per-file hashes, in the given order.
+std::string dataset_hash(const std::vector<std::filesystem::path>& files);
+// `git describe --always --dirty` of the source tree the binary was built from, or "unknown".
+std::string source_commit();
+
+}  // namespace deixis::train

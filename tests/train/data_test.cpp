@@ -1,0 +1,268 @@
+// The torch-free half of training: dataset validation (every corruption is rejected with the
+// file and the field named), clip geometry, the free-form hold, mirroring, schedules, and the
+// checkpoint file. Runs under ASan + UBSan too.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+
+#include "gesture/error.h"
+#include "gesture/train/checkpoint.h"
+#include "gesture/train/clips.h"
+#include "gesture/train/dataset.h"
+#include "gesture/train/network_kind.h"
+#include "gesture/train/schedule.h"
+#include "synthetic_sequences.h"
+#include "test_support.h"
+
+namespace deixis::train {
+namespace {
+
+// ---- dataset validation ----
+
+struct Corruption {
+  const char* name;
+  const char* field;  // must appear in the error
+  std::function<void(std::vector<Sequence>&, SafetensorsWriter&)> apply;
+};
+
+SafetensorsWriter with_tensor_replaced(const std::vector<Sequence>& sequences,
+                                       const std::string& name,
+                                       const std::function<void(SafetensorsWriter&)>& add) {
+  // Rebuild the file from a valid one, swapping one tensor.
+  const SafetensorsFile valid =
+      SafetensorsFile::from_bytes("valid", dataset_writer(sequences).serialize());
+  SafetensorsWriter writer;
+  for (const TensorInfo& t : valid.tensors()) {
+    if (t.name == name) {
+      add(writer);
+    } else {
+      writer.add(t.name, t.dtype, t.shape, valid.bytes(t));
+    }
+  }
+  return writer;
+}
+
+TEST(Dataset, RoundTrips) {
+  const std::vector<Sequence> sequences = test_data::synthetic_sequences(5, 50, 1);
+  const Dataset d = read_dataset(
+      SafetensorsFile::from_bytes("d.safetensors", dataset_writer(sequences).serialize()));
+  ASSERT_EQ(d.sequences.size(), 5u);
+  EXPECT_EQ(d.sequences[3].category, sequences[3].category);
+  EXPECT_EQ(d.sequences[4].pose, sequences[4].pose);
+  EXPECT_EQ(d.sequences[2].progression, sequences[2].progression);
+}
+
+TEST(Dataset, RejectsEveryCorruptionNamingFileAndField) {
+  const std::vector<Sequence> s = test_data::synthetic_sequences(3, 50, 2);
+  const std::int64_t frames = 150;
+  const std::vector<std::pair<const char*, SafetensorsWriter>> cases = {
+      {"pose", with_tensor_replaced(s, "pose", [](SafetensorsWriter&) {})},  // missing
+      {"features", with_tensor_replaced(
+                       s, "features",
+                       [&](SafetensorsWriter& w) {
+                         w.add_f32("features", {frames, 12}, std::vector<float>(frames * 12, 0.0f));
+                       })},
+      {"progression",
+       with_tensor_replaced(
+           s, "progression",
+           [&](SafetensorsWriter& w) {
+             w.add_f32("progression", {frames - 1, 3}, std::vector<float>((frames - 1) * 3, 0.0f));
+           })},
+      {"progression", with_tensor_replaced(s, "progression",
+                                           [&](SafetensorsWriter& w) {
+                                             std::vector<float> v(frames * 3, 0.5f);
+                                             v[7] = 1.5f;
+                                             w.add_f32("progression", {frames, 3}, v);
+                                           })},
+      {"pose", with_tensor_replaced(s, "pose",
+                                    [&](SafetensorsWriter& w) {
+                                      std::vector<float> v(frames * 24, 0.0f);
+                                      v[100] = std::numeric_limits<float>::quiet_NaN();
+                                      w.add_f32("pose", {frames, 24}, v);
+                                    })},
+      {"sequence_frames", with_tensor_replaced(s, "sequence_frames",
+                                               [](SafetensorsWriter& w) {
+                                                 const std::vector<std::int64_t> v = {50, 50, 49};
+                                                 w.add_i64("sequence_frames", {3}, v);
+                                               })},
+      {"sequence_frames", with_tensor_replaced(s, "sequence_frames",
+                                               [](SafetensorsWriter& w) {
+                                                 const std::vector<std::int64_t> v = {50, 0, 100};
+                                                 w.add_i64("sequence_frames", {3}, v);
+                                               })},
+      {"sequence_frames", with_tensor_replaced(s, "sequence_frames",
+                                               [](SafetensorsWriter& w) {
+                                                 const std::vector<float> v = {50, 50, 50};
+                                                 w.add_f32("sequence_frames", {3}, v);
+                                               })},
+      {"sequence_category", with_tensor_replaced(s, "sequence_category",
+                                                 [](SafetensorsWriter& w) {
+                                                   const std::vector<std::int64_t> v = {0, 10, 1};
+                                                   w.add_i64("sequence_category", {3}, v);
+                                                 })},
+      {"sequence_category", with_tensor_replaced(s, "sequence_category",
+                                                 [](SafetensorsWriter& w) {
+                                                   const std::vector<std::int64_t> v = {0, 1};
+                                                   w.add_i64("sequence_category", {2}, v);
+                                                 })},
+  };
+  for (const auto& [field, writer] : cases) {
+    try {
+      read_dataset(SafetensorsFile::from_bytes("subject170.safetensors", writer.serialize()));
+      ADD_FAILURE() << "accepted a dataset with a bad '" << field << "'";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("subject170.safetensors"), std::string::npos) << message;
+      EXPECT_NE(message.find(field), std::string::npos) << message;
+    }
+  }
+}
+
+TEST(Dataset, RejectsATruncatedFileNamingIt) {
+  deixis::testing::ScratchDir dir;
+  std::vector<std::byte> bytes =
+      dataset_writer(test_data::synthetic_sequences(2, 50, 3)).serialize();
+  bytes.resize(bytes.size() - 100);
+  const auto path = dir.path() / "truncated.safetensors";
+  {
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
+  }
+  try {
+    read_dataset(path);
+    ADD_FAILURE() << "accepted a truncated file";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("truncated.safetensors"), std::string::npos) << e.what();
+  }
+}
+
+// ---- clips ----
+
+TEST(Clips, StartEverySevenRowsPlusTheLastClip) {
+  EXPECT_EQ(clip_starts(60, 45, 7), (std::vector<int>{15, 0, 7, 14}));
+  EXPECT_EQ(clip_starts(45, 45, 7), (std::vector<int>{0, 0}));
+  EXPECT_TRUE(clip_starts(44, 45, 7).empty());
+}
+
+TEST(Clips, MpnetRowsAreFeaturesThenLabels) {
+  const std::vector<Sequence> s = test_data::synthetic_sequences(1, 60, 4);
+  const ExampleSet clips = mpnet_clips(s);
+  ASSERT_EQ(clips.count, 4u);
+  ASSERT_EQ(clips.columns, 14);
+  // Clip 1 starts at row 0; its row 3 is frame 3.
+  const std::span<const float> c = clips.example(1);
+  EXPECT_EQ(c[3 * 14 + 2], s[0].features[3 * 11 + 2]);
+  EXPECT_EQ(c[3 * 14 + 12], s[0].progression[3 * 3 + 1]);
+  // Clip 0 is the last 45 rows: its row 0 is frame 15.
+  EXPECT_EQ(clips.example(0)[0], s[0].features[15 * 11]);
+}
+
+TEST(Clips, UgnetRowsPairEachPoseWithTheNextFrame) {
+  std::vector<Sequence> s = test_data::synthetic_sequences(1, 60, 5);
+  s[0].category = Category::kPointingSingle;  // no hold
+  const ExampleSet clips = ugnet_clips(s);
+  ASSERT_EQ(clips.columns, 56);
+  const std::span<const float> c = clips.example(1);  // starts at pair 0
+  const int row = 4;
+  EXPECT_EQ(c[row * 56 + 5], s[0].pose[row * 24 + 5]);               // x_i
+  EXPECT_EQ(c[row * 56 + 24], s[0].features[(row + 1) * 11 + 6]);    // θ^H of frame i+1
+  EXPECT_EQ(c[row * 56 + 30], s[0].progression[(row + 1) * 3 + 1]);  // deictic of i+1
+  EXPECT_EQ(c[row * 56 + 32 + 20], s[0].pose[(row + 1) * 24 + 20]);  // x_{i+1}
+}
+
+TEST(Clips, FreeFormHoldKeepsThePartWhoseProgressionIsZero) {
+  std::vector<Sequence> s = test_data::synthetic_sequences(1, 50, 6);
+  s[0].category = Category::kPointingTransition;
+  for (int f = 0; f < 50; ++f) {
+    s[0].progression[f * 3 + 0] = f % 2 == 0 ? 0.0f : 0.5f;  // gaze 0 on even frames
+    s[0].progression[f * 3 + 1] = 0.0f;                      // deictic always 0
+  }
+  const ExampleSet clips = ugnet_clips(s);
+  const std::span<const float> c = clips.example(1);  // pairs 0…44
+  for (int i = 0; i < 45; ++i) {
+    const float* target = c.data() + i * 56 + 32;
+    const float* now = s[0].pose.data() + i * 24;
+    const float* next = now + 24;
+    const bool gaze_zero = (i + 1) % 2 == 0;
+    EXPECT_EQ(target[4], gaze_zero ? now[4] : next[4]) << i;  // head part
+    EXPECT_EQ(target[19], now[19]) << i;                      // hand part held throughout
+  }
+}
+
+TEST(Clips, MirrorIsItsOwnInverseAndNegatesTheta) {
+  std::vector<Sequence> s = test_data::synthetic_sequences(1, 10, 7);
+  Sequence m = s[0];
+  mirror(m);
+  EXPECT_EQ(m.features[6], -s[0].features[6]);  // θ^H
+  EXPECT_EQ(m.features[7], s[0].features[7]);   // φ^H unchanged
+  EXPECT_EQ(m.pose[21], -s[0].pose[21]);        // fingertip x
+  EXPECT_EQ(m.pose[22], s[0].pose[22]);
+  mirror(m);
+  EXPECT_EQ(m.pose, s[0].pose);
+  EXPECT_EQ(m.features, s[0].features);
+}
+
+TEST(Clips, DeicticOnlyCategories) {
+  int count = 0;
+  for (int c = 0; c < kCategoryCount; ++c) {
+    count += is_deictic_gesture(static_cast<Category>(c)) ? 1 : 0;
+  }
+  EXPECT_EQ(count, 4);
+  EXPECT_FALSE(is_deictic_gesture(Category::kPointingExplanation));
+}
+
+// ---- schedules ----
+
+TEST(Schedule, LearningRateAndScheduledSampling) {
+  const Schedule mpnet = default_schedule(Family::kMpnet);
+  EXPECT_EQ(mpnet.epochs, 80);
+  EXPECT_EQ(mpnet.batch_size, 16);
+  EXPECT_DOUBLE_EQ(mpnet.learning_rate_at(1), 1e-4);
+  EXPECT_NEAR(mpnet.learning_rate_at(3), 1e-4 * 0.975 * 0.975, 1e-15);
+  EXPECT_EQ(mpnet.teacher_forcing_at(70), 1.0);
+  const Schedule ugnet = default_schedule(Family::kUgnet);
+  EXPECT_EQ(ugnet.epochs, 120);
+  EXPECT_EQ(ugnet.batch_size, 32);
+  EXPECT_NEAR(ugnet.learning_rate_at(2), 0.99e-4, 1e-15);
+  EXPECT_EQ(ugnet.teacher_forcing_at(30), 1.0);
+  EXPECT_NEAR(ugnet.teacher_forcing_at(45), 0.5, 1e-12);
+  EXPECT_EQ(ugnet.teacher_forcing_at(60), 0.0);
+  EXPECT_EQ(ugnet.teacher_forcing_at(120), 0.0);
+}
+
+// ---- checkpoint file ----
+
+TEST(Checkpoint, RoundTripsExactly) {
+  deixis::testing::ScratchDir dir;
+  Checkpoint c;
+  c.fingerprint = "MPNet(MoE)|seed 3";
+  c.epoch = 7;
+  c.batch = 12;
+  c.step = 1234;
+  c.loss_sum = 0.1 + 0.2;  // not representable in short decimal: must round-trip bit-exactly
+  c.loss_count = 99;
+  c.history.push_back({1, 0.123456789012345, std::numeric_limits<double>::quiet_NaN(), 1e-4, 1, 3});
+  c.parameters = {1.5f, -2.0f, 3.25f};
+  c.exp_avg = {0.1f, 0.2f, 0.3f};
+  c.exp_avg_sq = {0.01f, 0.02f, 0.03f};
+  write_checkpoint(dir.path() / "c.safetensors", c);
+  const Checkpoint r = read_checkpoint(dir.path() / "c.safetensors");
+  EXPECT_EQ(r.fingerprint, c.fingerprint);
+  EXPECT_EQ(r.epoch, 7);
+  EXPECT_EQ(r.batch, 12);
+  EXPECT_EQ(r.step, 1234);
+  EXPECT_EQ(r.loss_sum, c.loss_sum);
+  ASSERT_EQ(r.history.size(), 1u);
+  EXPECT_EQ(r.history[0].train_loss, c.history[0].train_loss);
+  EXPECT_TRUE(std::isnan(r.history[0].validation_loss));
+  EXPECT_EQ(r.parameters, c.parameters);
+  EXPECT_EQ(r.exp_avg_sq, c.exp_avg_sq);
+}
+
+}  // namespace
+}  // namespace deixis::train

@@ -1,0 +1,41 @@
+#pragma once
+// Small, learnable sequences for the training tests: smooth features whose progression labels
+// are a function of them, and a pose that moves smoothly, so a few optimiser steps must lower
+// the loss. Not motion data: the synthetic capture (capture/) makes those.
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "gesture/train/clips.h"
+
+namespace deixis::train::test_data {
+
+inline std::vector<Sequence> synthetic_sequences(int count, int frames, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> phase(0.0f, 6.28f);
+  std::vector<Sequence> out;
+  for (int s = 0; s < count; ++s) {
+    Sequence seq;
+    seq.category = static_cast<Category>(s % kCategoryCount);
+    seq.frames = frames;
+    const float ph = phase(rng);
+    for (int f = 0; f < frames; ++f) {
+      const float t = static_cast<float>(f) / 30.0f;
+      for (int k = 0; k < kFeatureColumns; ++k) {
+        seq.features.push_back(std::cos(t * static_cast<float>(k + 1) * 0.5f + ph));
+      }
+      const float gaze = std::clamp(std::sin(t + ph), 0.0f, 1.0f);
+      const float deictic = std::clamp(std::sin(0.7f * t + ph), 0.0f, 1.0f);
+      seq.progression.insert(seq.progression.end(),
+                             {gaze, deictic, gaze == 0.0f && deictic == 0.0f ? 1.0f : 0.0f});
+      for (int k = 0; k < kPoseColumns; ++k) {
+        seq.pose.push_back(0.3f * std::sin(0.5f * t * static_cast<float>(k + 1) + ph));
+      }
+    }
+    out.push_back(std::move(seq));
+  }
+  return out;
+}
+
+}  // namespace deixis::train::test_data

@@ -1,0 +1,244 @@
+// Training itself: a tiny run lowers its loss (MPNet and UGNet MoE); a run killed with SIGKILL in
+// the middle of an epoch and started again with the same command reproduces the losses and the
+// weights of a run that was never interrupted; the exported weights load in the runtime; a corrupt
+// dataset or a checkpoint of another run fails with the file and the field named.
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "gesture/error.h"
+#include "gesture/nn/mpnet.h"
+#include "gesture/nn/ugnet.h"
+#include "gesture/train/checkpoint.h"
+#include "gesture/train/dataset.h"
+#include "gesture/train/trainer.h"
+#include "synthetic_sequences.h"
+#include "test_support.h"
+
+extern char** environ;
+
+namespace deixis::train {
+namespace {
+
+namespace fs = std::filesystem;
+
+TrainOptions tiny_options(Network network, const fs::path& out) {
+  TrainOptions o;
+  o.network = network;
+  o.schedule = default_schedule(family_of(network));
+  o.schedule.epochs = 3;
+  o.schedule.batch_size = 8;
+  o.schedule.learning_rate = 1e-3;  // a few steps must show progress
+  o.seed = 11;
+  o.out_dir = out;
+  o.dataset_hash = "test";
+  return o;
+}
+
+TEST(Training, TinyMpnetLowersItsLoss) {
+  deixis::testing::ScratchDir dir;
+  const std::vector<Sequence> train = test_data::synthetic_sequences(20, 60, 1);
+  const std::vector<Sequence> validation = test_data::synthetic_sequences(6, 60, 2);
+  const TrainingData data{mpnet_clips(train), mpnet_clips(validation)};
+  std::ostringstream log;
+  const TrainOutcome out = train::train(tiny_options(Network::kMpnetMoe, dir.path()), data, log);
+  ASSERT_EQ(out.history.size(), 3u);
+  EXPECT_LT(out.history.back().train_loss, 0.8 * out.history.front().train_loss) << log.str();
+  EXPECT_LT(out.history.back().validation_loss, out.history.front().validation_loss) << log.str();
+  EXPECT_NE(log.str().find("epoch 3/3"), std::string::npos);
+  // The exported file is what the runtime loads.
+  const nn::Mpnet runtime = nn::Mpnet::load(out.weights);
+  EXPECT_EQ(runtime.architecture(), nn::MpnetArchitecture::kGruMoe);
+}
+
+TEST(Training, TinyUgnetLowersItsLossWithScheduledSampling) {
+  deixis::testing::ScratchDir dir;
+  const std::vector<Sequence> train = test_data::synthetic_sequences(12, 60, 3);
+  const TrainingData data{ugnet_clips(train), {}};
+  TrainOptions o = tiny_options(Network::kUgnetMoe, dir.path());
+  o.schedule.teacher_forcing_epochs = 1;  // P: 1, 0.5, 0 over the three epochs
+  o.schedule.autoregressive_from_epoch = 3;
+  std::ostringstream log;
+  const TrainOutcome out = train::train(o, data, log);
+  ASSERT_EQ(out.history.size(), 3u);
+  EXPECT_EQ(out.history[1].teacher_forcing, 0.5);
+  EXPECT_LT(out.history.back().train_loss, out.history.front().train_loss) << log.str();
+  const nn::Ugnet runtime = nn::Ugnet::load(out.weights);
+  EXPECT_EQ(runtime.architecture(), nn::UgnetArchitecture::kMoe);
+}
+
+TEST(Training, TooLittleDataIsAClearError) {
+  deixis::testing::ScratchDir dir;
+  const TrainingData data{mpnet_clips(test_data::synthetic_sequences(1, 50, 4)), {}};
+  std::ostringstream log;
+  EXPECT_THROW(train::train(tiny_options(Network::kMpnetMoe, dir.path()), data, log), Error);
+}
+
+// ---- the executable: resume after SIGKILL, errors ----
+
+struct Result {
+  int exit_code = -1;
+  std::string output;
+};
+
+pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
+  std::vector<char*> argv;
+  for (const auto& a : args) {
+    argv.push_back(const_cast<char*>(a.c_str()));
+  }
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  pid_t pid = 0;
+  EXPECT_EQ(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  return pid;
+}
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+Result run(const std::vector<std::string>& args, const fs::path& log) {
+  const pid_t pid = spawn(args, log);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(log)};
+}
+
+std::vector<std::string> command(const fs::path& data, const fs::path& validation,
+                                 const fs::path& out, const std::string& seed = "5") {
+  return {DEIXIS_TRAIN_EXE,
+          "mpnet",
+          "--data",
+          data.string(),
+          "--validation",
+          validation.string(),
+          "--out",
+          out.string(),
+          "--epochs",
+          "4",
+          "--batch-size",
+          "4",
+          "--lr",
+          "1e-3",
+          "--seed",
+          seed,
+          "--checkpoint-batches",
+          "3",
+          "--threads",
+          "1"};
+}
+
+nlohmann::json manifest(const fs::path& out) {
+  return nlohmann::json::parse(read_text(out / "MPNet(MoE)(AC).manifest.json"));
+}
+
+class Executable : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    data_ = dir_.path() / "train.safetensors";
+    validation_ = dir_.path() / "validation.safetensors";
+    dataset_writer(test_data::synthetic_sequences(30, 60, 7)).write(data_);
+    dataset_writer(test_data::synthetic_sequences(8, 60, 8)).write(validation_);
+  }
+  deixis::testing::ScratchDir dir_;
+  fs::path data_, validation_;
+};
+
+TEST_F(Executable, ResumeAfterKillReproducesTheUninterruptedRun) {
+  const fs::path whole = dir_.path() / "whole";
+  const Result uninterrupted = run(command(data_, validation_, whole), dir_.path() / "whole.log");
+  ASSERT_EQ(uninterrupted.exit_code, 0) << uninterrupted.output;
+
+  // Start the same run elsewhere and kill it once a checkpoint from inside epoch 2 exists.
+  const fs::path killed = dir_.path() / "killed";
+  const pid_t pid = spawn(command(data_, validation_, killed), dir_.path() / "killed.log");
+  const fs::path checkpoint = killed / "checkpoint.safetensors";
+  bool mid_epoch = false;
+  for (int i = 0; i < 20000 && !mid_epoch; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (fs::exists(checkpoint)) {
+      try {
+        const Checkpoint c = read_checkpoint(checkpoint);
+        mid_epoch = c.epoch >= 2 && c.batch > 0;
+      } catch (const Error&) {
+      }
+    }
+  }
+  kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(mid_epoch) << "no mid-epoch checkpoint appeared";
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before it could be killed";
+  EXPECT_FALSE(fs::exists(killed / "MPNet(MoE)(AC).manifest.json"));
+
+  const Result resumed = run(command(data_, validation_, killed), dir_.path() / "resumed.log");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("resuming from"), std::string::npos) << resumed.output;
+
+  const nlohmann::json a = manifest(whole), b = manifest(killed);
+  ASSERT_EQ(a["history"].size(), 4u);
+  ASSERT_EQ(b["history"].size(), 4u);
+  for (std::size_t e = 0; e < 4; ++e) {
+    EXPECT_EQ(a["history"][e]["train_loss"].get<double>(),
+              b["history"][e]["train_loss"].get<double>())
+        << "epoch " << e + 1;
+    EXPECT_EQ(a["history"][e]["validation_loss"].get<double>(),
+              b["history"][e]["validation_loss"].get<double>())
+        << "epoch " << e + 1;
+  }
+  EXPECT_LT(a["final_train_loss"].get<double>(), a["history"][0]["train_loss"].get<double>());
+  // Same weights to the bit.
+  const SafetensorsFile wa = SafetensorsFile::read(whole / "MPNet(MoE)(AC).safetensors");
+  const SafetensorsFile wb = SafetensorsFile::read(killed / "MPNet(MoE)(AC).safetensors");
+  for (const TensorInfo& t : wa.tensors()) {
+    EXPECT_EQ(wa.read_f32(t.name, t.shape), wb.read_f32(t.name, t.shape)) << t.name;
+  }
+  // The manifest says how the weights were made.
+  EXPECT_EQ(a["seed"].get<int>(), 5);
+  EXPECT_EQ(a["dataset_hash"].get<std::string>().size(), 64u);
+  EXPECT_NE(a["command_line"].get<std::string>().find("--epochs 4"), std::string::npos);
+  EXPECT_GT(a["wall_seconds"].get<double>(), 0.0);
+  EXPECT_FALSE(a["commit"].get<std::string>().empty());
+}
+
+TEST_F(Executable, ACheckpointOfAnotherRunIsRefused) {
+  const fs::path out = dir_.path() / "out";
+  ASSERT_EQ(run(command(data_, validation_, out), dir_.path() / "a.log").exit_code, 0);
+  const Result other = run(command(data_, validation_, out, "6"), dir_.path() / "b.log");
+  EXPECT_EQ(other.exit_code, 2);
+  EXPECT_NE(other.output.find("checkpoint.safetensors"), std::string::npos) << other.output;
+  EXPECT_NE(other.output.find("--restart"), std::string::npos) << other.output;
+}
+
+TEST_F(Executable, ACorruptDatasetIsAnErrorNamingFileAndField) {
+  const fs::path bad = dir_.path() / "bad.safetensors";
+  SafetensorsWriter writer;
+  const std::vector<float> features(60 * 12, 0.0f);
+  writer.add_f32("features", {60, 12}, features);
+  writer.write(bad);
+  const Result r = run(command(bad, validation_, dir_.path() / "out"), dir_.path() / "bad.log");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("bad.safetensors"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("'features'"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace deixis::train
