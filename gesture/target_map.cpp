@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "gesture/error.h"
+#include "gesture/io/json_reader.h"
 
 namespace deixis {
 
@@ -21,67 +22,16 @@ struct Kind {
 constexpr Kind kKinds[] = {
     {TargetKind::kSphere, "sphere"}, {TargetKind::kBox, "box"}, {TargetKind::kScreen, "screen"}};
 
-// Reports errors as "<source>: <path>: <what>".
-class Reader {
- public:
-  explicit Reader(std::string_view source) : source_(source) {}
-
-  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
-    throw Error(source_ + ": " + (path.empty() ? "" : path + ": ") + what);
-  }
-
-  const json& member(const json& object, const std::string& path, const char* key) const {
-    if (!object.contains(key)) {
-      fail(path, std::string("missing field '") + key + "'");
-    }
-    return object[key];
-  }
-
-  std::string string(const json& j, const std::string& path) const {
-    if (!j.is_string()) {
-      fail(path, std::string("expected a string, found ") + j.type_name());
-    }
-    return j.get<std::string>();
-  }
-
-  float finite_number(const json& j, const std::string& path) const {
-    if (!j.is_number()) {
-      fail(path, "not a finite number");
-    }
-    const double v = j.get<double>();
-    if (!std::isfinite(v) || std::abs(v) > 1e6) {
-      fail(path, "not a finite number");
-    }
-    return static_cast<float>(v);
-  }
-
-  Vec3 vec3(const json& j, const std::string& path) const {
-    if (!j.is_array() || j.size() != 3) {
-      fail(path, "expected [x, y, z]");
-    }
-    return {finite_number(j[0], path + "[0]"), finite_number(j[1], path + "[1]"),
-            finite_number(j[2], path + "[2]")};
-  }
-
- private:
-  std::string source_;
-};
+using Reader = JsonReader;
 
 TargetObject parse_object(const Reader& r, const json& j, const std::string& path) {
   if (!j.is_object()) {
     r.fail(path, "expected an object");
   }
-  for (const auto& [key, value] : j.items()) {
-    if (key != "id" && key != "name" && key != "kind" && key != "position" && key != "size") {
-      r.fail(path, "unknown field '" + key + "'");
-    }
-  }
+  r.only_fields(j, path, {"id", "name", "kind", "position", "size"});
   TargetObject object;
-  const json& id = r.member(j, path, "id");
-  if (!id.is_number_integer() || id.get<std::int64_t>() < 1 || id.get<std::int64_t>() > 1'000'000) {
-    r.fail(path + ".id", "expected an integer from 1 to 1000000 (0 is the other person)");
-  }
-  object.id = static_cast<TargetId>(id.get<std::int64_t>());
+  object.id =
+      static_cast<TargetId>(r.integer_in(r.member(j, path, "id"), path + ".id", 1, 1'000'000));
   object.name = r.string(r.member(j, path, "name"), path + ".name");
   if (object.name.empty() || object.name.size() > 64) {
     r.fail(path + ".name", "expected 1 to 64 characters");
@@ -129,15 +79,7 @@ const TargetObject* TargetMap::find(TargetId id) const {
 
 TargetMap parse_target_map(std::string_view json_text, std::string_view source) {
   const Reader r(source);
-  json j;
-  try {
-    j = json::parse(json_text);
-  } catch (const json::parse_error& e) {
-    r.fail("", std::string("not valid JSON: ") + e.what());
-  }
-  if (!j.is_object()) {
-    r.fail("", "expected a JSON object");
-  }
+  const json j = r.parse_object(json_text);
   const std::string format = r.string(r.member(j, "", "format"), "format");
   if (format != "deixis-target-map") {
     r.fail("format", "expected \"deixis-target-map\", found \"" + format + "\"");
