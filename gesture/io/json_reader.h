@@ -26,7 +26,7 @@ class JsonReader {
     json j;
     try {
       j = json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse errors and number overflows alike
       fail("", std::string("not valid JSON: ") + e.what());
     }
     if (!j.is_object()) {
