@@ -1,0 +1,278 @@
+// The network layer's figures (issue 7): bytes and time per tracking frame, sealing, the jitter
+// buffer, a streaming tick of two sessions, one frame through real ENet on loopback, and the
+// jitter-buffer delay against network jitter (the figure behind the 50 ms default).
+//
+//   build/release/bench/net_bench
+//   build/release/bench/net_bench --benchmark_filter=JitterDelay --benchmark_repetitions=1
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+#include "net/enet_link.h"
+#include "net/jitter_buffer.h"
+#include "net/sealing.h"
+#include "net/session.h"
+#include "net/simulated_link.h"
+#include "net/tracking_codec.h"
+
+namespace {
+
+using namespace deixis;
+using namespace deixis::net;
+
+constexpr double kTick = 1.0 / 30.0;
+// ENet around one tracking packet in its own datagram: protocol header 2 bytes (peer id; the
+// sent time only rides along when a command needs an acknowledgement), an unsequenced send
+// command 8 bytes (BM_EnetLoopbackFrame measures the sum); then UDP 8 and IPv4 20.
+constexpr double kEnetBytes = 10.0;
+constexpr double kUdpIpBytes = 28.0;
+
+TrackingFrame frame_at(std::uint32_t i, const Vec3& root) {
+  const float t = static_cast<float>(i) * static_cast<float>(kTick);
+  TrackingFrame f;
+  f.time = i * kTick;
+  const Mat3 head = Eigen::AngleAxisf(0.3f * std::sin(t), Vec3::UnitY()).toRotationMatrix();
+  f.T_world_head = Pose{head, root + Vec3(0.01f * std::sin(t), 0, 0)};
+  f.gaze = (head * Vec3(0.1f, -0.05f, -1.0f)).normalized();
+  for (const Hand h : {Hand::kLeft, Hand::kRight}) {
+    const float side = h == Hand::kRight ? 1.0f : -1.0f;
+    const Mat3 wrist =
+        Eigen::AngleAxisf(side * (0.2f + 0.3f * std::sin(t)), Vec3::UnitZ()).toRotationMatrix();
+    f.T_world_wrist[index(h)] = Pose{wrist, root + Vec3(0.2f * side, -0.6f, -0.2f)};
+    f.index_tip[index(h)] = f.T_world_wrist[index(h)].translation + wrist * Vec3(0.15f, 0, 0);
+  }
+  f.valid = tracked::kAll;
+  f.head_target = 3;
+  f.hand_target = 7;
+  f.head_target_position = root + Vec3(-1, 0, -2);
+  f.hand_target_position = root + Vec3(0.5f, -0.4f, -1.2f);
+  return f;
+}
+
+std::vector<TrackingFrame> frames(const Vec3& root) {
+  std::vector<TrackingFrame> v;
+  for (std::uint32_t i = 0; i < 1024; ++i) {
+    v.push_back(frame_at(i, root));
+  }
+  return v;
+}
+
+SessionConfig session_config(Role role, std::string site, std::string passphrase) {
+  SessionConfig c;
+  c.role = role;
+  c.hello.site = std::move(site);
+  c.passphrase = std::move(passphrase);
+  c.kdf = {1, 8};  // the handshake is not what these benchmarks time
+  c.logger = std::make_shared<spdlog::logger>("bench");  // no sinks: quiet
+  return c;
+}
+
+void bytes_counters(benchmark::State& state, double payload) {
+  state.counters["payload_B"] = payload;
+  state.counters["udp_payload_B"] = payload + kEnetBytes;
+  state.counters["on_wire_B"] = payload + kEnetBytes + kUdpIpBytes;
+  state.counters["kB_per_s_at_30Hz"] = 30.0 * (payload + kEnetBytes + kUdpIpBytes) / 1000.0;
+}
+
+void BM_EncodeTracking(benchmark::State& state) {
+  const Vec3 root(0, 1.6f, 0);
+  const std::vector<TrackingFrame> f = frames(root);
+  std::array<std::byte, kTrackingBytes> out{};
+  std::uint32_t i = 0;
+  for (auto _ : state) {
+    const TrackingEncoding e = encode_tracking({i, f[i & 1023]}, root, out);
+    benchmark::DoNotOptimize(e);
+    benchmark::ClobberMemory();
+    ++i;
+  }
+  bytes_counters(state, kTrackingBytes);
+}
+BENCHMARK(BM_EncodeTracking);
+
+void BM_DecodeTracking(benchmark::State& state) {
+  const Vec3 root(0, 1.6f, 0);
+  const std::vector<TrackingFrame> f = frames(root);
+  std::vector<std::array<std::byte, kTrackingBytes>> packets(1024);
+  for (std::uint32_t i = 0; i < 1024; ++i) {
+    encode_tracking({i, f[i]}, root, packets[i]);
+  }
+  TrackingMessage m;
+  std::uint32_t i = 0;
+  for (auto _ : state) {
+    const WireResult r = decode_tracking(packets[i++ & 1023], root, m);
+    benchmark::DoNotOptimize(r);
+    benchmark::DoNotOptimize(m);
+  }
+  bytes_counters(state, kTrackingBytes);
+}
+BENCHMARK(BM_DecodeTracking);
+
+void BM_SealAndOpenTracking(benchmark::State& state) {
+  Key key{};
+  key.fill(std::byte{1});
+  PacketSealer sealer(key);
+  PacketOpener opener(key);
+  std::array<std::byte, kTrackingBytes> plain{};
+  encode_tracking({0, frame_at(0, Vec3::Zero())}, Vec3::Zero(), plain);
+  std::array<std::byte, kTrackingBytes + kSealOverheadBytes> sealed{};
+  std::array<std::byte, kTrackingBytes> scratch{};
+  for (auto _ : state) {
+    const std::size_t n = sealer.seal(Channel::kTracking, plain, sealed);
+    std::span<const std::byte> opened;
+    const WireResult r =
+        opener.open(Channel::kTracking, std::span(sealed).first(n), scratch, opened);
+    benchmark::DoNotOptimize(r);
+  }
+  bytes_counters(state, kTrackingBytes + kSealOverheadBytes);
+}
+BENCHMARK(BM_SealAndOpenTracking);
+
+void BM_JitterBufferPushPop(benchmark::State& state) {
+  JitterBuffer buffer;
+  const TrackingFrame f = frame_at(0, Vec3::Zero());
+  std::uint32_t i = 0;
+  for (auto _ : state) {
+    TrackingFrame g = f;
+    g.time = i * kTick;
+    buffer.push(i, g, g.time + 0.02);
+    const Playout p = buffer.pop(g.time + 0.02);
+    benchmark::DoNotOptimize(p);
+    ++i;
+  }
+}
+BENCHMARK(BM_JitterBufferPushPop);
+
+// Two sessions streaming to each other (sealed) over the simulated network: one tracking tick of
+// both sides, everything included but a real socket.
+void BM_SessionTickSealed(benchmark::State& state) {
+  SimulatedNetwork network({}, 1);
+  Session host(network.host(), session_config(Role::kHost, "A", "bench"));
+  Session joiner(network.joiner(), session_config(Role::kJoiner, "B", "bench"));
+  double now = 0.0;
+  host.start(now);
+  joiner.start(now);
+  while (host.state() != SessionState::kStreaming || joiner.state() != SessionState::kStreaming) {
+    now += 0.005;
+    network.set_time(now);
+    host.service(now);
+    joiner.service(now);
+  }
+  const std::vector<TrackingFrame> f = frames(Vec3::Zero());
+  std::uint32_t i = 0;
+  for (auto _ : state) {
+    TrackingFrame g = f[i & 1023];
+    g.time = now;
+    host.send_tracking(g);
+    joiner.send_tracking(g);
+    now += kTick;
+    network.set_time(now);
+    host.service(now);
+    joiner.service(now);
+    for (Session* s : {&host, &joiner}) {
+      for (Playout p = s->next_frame(now);
+           p.kind == PlayoutKind::kFrame || p.kind == PlayoutKind::kMissed;
+           p = s->next_frame(now)) {
+        benchmark::DoNotOptimize(p);
+      }
+    }
+    ++i;
+  }
+  state.counters["played"] = static_cast<double>(host.jitter().played);
+}
+BENCHMARK(BM_SessionTickSealed);
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// One tracking frame from a joiner to a host through real ENet sockets on 127.0.0.1, until the
+// host has decoded it: send, flush, the kernel's loopback, receive, open, decode, jitter push.
+void BM_EnetLoopbackFrame(benchmark::State& state) {
+  const bool sealed = state.range(0) != 0;
+  auto host_link = EnetLink::host("127.0.0.1", 0);
+  auto joiner_link = EnetLink::join("127.0.0.1", host_link->port());
+  Session host(*host_link, session_config(Role::kHost, "A", sealed ? "bench" : ""));
+  Session joiner(*joiner_link, session_config(Role::kJoiner, "B", sealed ? "bench" : ""));
+  const auto start = std::chrono::steady_clock::now();
+  host.start(0.0);
+  joiner.start(0.0);
+  while ((host.state() != SessionState::kStreaming || joiner.state() != SessionState::kStreaming) &&
+         seconds_since(start) < 10.0) {
+    host.service(seconds_since(start), 1);
+    joiner.service(seconds_since(start), 1);
+  }
+  if (host.state() != SessionState::kStreaming) {
+    state.SkipWithError("could not connect over loopback");
+    return;
+  }
+  const std::vector<TrackingFrame> f = frames(Vec3::Zero());
+  const EnetLink::Traffic before = joiner_link->traffic();
+  std::uint32_t i = 0;
+  for (auto _ : state) {
+    const std::uint64_t received = host.stats().tracking_received;
+    TrackingFrame g = f[i++ & 1023];
+    g.time = seconds_since(start);
+    joiner.send_tracking(g);
+    while (host.stats().tracking_received == received && seconds_since(start) < 60.0) {
+      host.service(seconds_since(start), 1);
+    }
+    joiner.service(seconds_since(start));  // acknowledgements, heartbeats
+  }
+  const EnetLink::Traffic after = joiner_link->traffic();
+  const double datagrams = static_cast<double>(after.sent_datagrams - before.sent_datagrams);
+  state.counters["udp_payload_B_per_datagram"] =
+      static_cast<double>(after.sent_bytes - before.sent_bytes) / std::max(1.0, datagrams);
+  state.counters["datagrams_per_frame"] = datagrams / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_EnetLoopbackFrame)->Arg(0)->Arg(1)->ArgNames({"sealed"})->UseRealTime();
+
+// The delay choice: 3000 frames with Gaussian transit jitter (std `jitter_ms`) through a jitter
+// buffer with `delay_ms` of delay. Counters: the share of frames that came too late (played as
+// missed tracking) and the mean time a frame waited in the buffer.
+void BM_JitterDelay(benchmark::State& state) {
+  JitterConfig config;
+  config.delay = static_cast<double>(state.range(0)) / 1000.0;
+  const double jitter = static_cast<double>(state.range(1)) / 1000.0;
+  constexpr int kFrames = 3000;
+  double late_share = 0.0, waited = 0.0;
+  for (auto _ : state) {
+    JitterBuffer buffer(config);
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> gaussian(0.0, 1.0);
+    std::vector<std::pair<double, std::uint32_t>> arrivals;
+    for (std::uint32_t s = 0; s < kFrames; ++s) {
+      arrivals.push_back({s * kTick + std::max(0.0, 0.040 + jitter * gaussian(rng)), s});
+    }
+    std::sort(arrivals.begin(), arrivals.end());
+    TrackingFrame frame;
+    std::size_t next = 0;
+    for (double now = 0.0; next < arrivals.size(); now += 0.001) {
+      while (next < arrivals.size() && arrivals[next].first <= now) {
+        frame.time = arrivals[next].second * kTick;
+        buffer.push(arrivals[next].second, frame, arrivals[next].first);
+        ++next;
+      }
+      for (Playout p = buffer.pop(now);
+           p.kind == PlayoutKind::kFrame || p.kind == PlayoutKind::kMissed; p = buffer.pop(now)) {
+      }
+    }
+    late_share = static_cast<double>(buffer.stats().late) / kFrames;
+    waited = buffer.stats().waited_sum /
+             static_cast<double>(std::max<std::uint64_t>(1, buffer.stats().played));
+  }
+  state.counters["late_pct"] = 100.0 * late_share;
+  state.counters["mean_wait_ms"] = 1000.0 * waited;
+}
+BENCHMARK(BM_JitterDelay)
+    ->ArgsProduct({{0, 17, 33, 50, 67, 100}, {0, 5, 10, 20}})
+    ->ArgNames({"delay_ms", "jitter_ms"})
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace

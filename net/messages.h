@@ -1,0 +1,109 @@
+#pragma once
+// The reliable-channel messages (docs/protocol.md) as plain structs, with their encoders and
+// bounded decoders. Decoders check every length against what is left of the packet, every float
+// for finiteness and range, every enum and id against its range, and that nothing trails the last
+// field; they return what was wrong and where, and never assert or throw. Encoders validate with
+// the same rules, so a message that would be refused is never sent.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "gesture/target_map.h"
+#include "gesture/tracking.h"
+#include "net/protocol.h"
+
+namespace deixis::net {
+
+enum class AuthMode : std::uint8_t { kOpen = 0, kPassphrase = 1 };
+
+// Argon2id cost of deriving the key from the passphrase; chosen by the host, sent in the welcome.
+struct KdfCost {
+  std::uint32_t opslimit = 2;              // crypto_pwhash_OPSLIMIT_INTERACTIVE
+  std::uint32_t memlimit_kib = 64 * 1024;  // crypto_pwhash_MEMLIMIT_INTERACTIVE (64 MiB)
+  bool operator==(const KdfCost&) const = default;
+};
+// What a joiner accepts (a host must not make it allocate gigabytes): MODERATE at most.
+inline constexpr std::uint32_t kMinKdfOps = 1;
+inline constexpr std::uint32_t kMaxKdfOps = 4;
+inline constexpr std::uint32_t kMinKdfMemKib = 8;
+inline constexpr std::uint32_t kMaxKdfMemKib = 256 * 1024;
+
+using Salt = std::array<std::byte, kSaltBytes>;
+using Challenge = std::array<std::byte, kChallengeBytes>;
+using Proof = std::array<std::byte, kProofBytes>;
+
+struct Welcome {  // host → joiner, first message after the transport connects
+  std::uint16_t protocol_version = kProtocolVersion;
+  AuthMode auth = AuthMode::kOpen;
+  Salt salt{};        // zero when open
+  KdfCost kdf{0, 0};  // zero when open
+  Challenge host_challenge{};
+};
+
+struct Join {  // joiner → host
+  std::uint16_t protocol_version = kProtocolVersion;
+  AuthMode auth = AuthMode::kOpen;
+  Challenge joiner_challenge{};
+  Proof proof{};  // zero when open
+};
+
+struct Accept {   // host → joiner
+  Proof proof{};  // zero when open
+};
+
+// Who is at the other end: the avatar to show and the body it must move like (DESIGN §9).
+struct AvatarDescription {
+  std::string model;  // an avatar asset name; empty: the project's default avatar
+  BodyCalibration body;
+};
+
+struct Hello {
+  std::uint16_t protocol_version = kProtocolVersion;
+  std::string site;  // 1..64 bytes of wire text
+  AvatarDescription avatar;
+};
+
+struct Heartbeat {
+  std::uint32_t count = 0;  // +1 per heartbeat sent on this connection
+};
+
+struct Bye {
+  ByeReason reason = ByeReason::kLeaving;
+};
+
+// Sizes of the fixed-size messages.
+inline constexpr std::size_t kWelcomeBytes = 64;
+inline constexpr std::size_t kJoinBytes = 72;
+inline constexpr std::size_t kAcceptBytes = 33;
+inline constexpr std::size_t kHeartbeatBytes = 5;
+inline constexpr std::size_t kByeBytes = 2;
+
+// Encoders: the bytes of the message, appended to `out` (cleared first). The fixed-size ones
+// cannot fail; hello and target map return the rule the struct breaks, and leave `out` empty.
+void encode(const Welcome& m, std::vector<std::byte>& out);
+void encode(const Join& m, std::vector<std::byte>& out);
+void encode(const Accept& m, std::vector<std::byte>& out);
+WireResult encode(const Hello& m, std::vector<std::byte>& out);
+WireResult encode(const TargetMap& m, std::vector<std::byte>& out);
+// Allocation-free, into a caller-owned span (heartbeats and byes are sent while streaming);
+// return the bytes written, or 0 when `out` is too small.
+std::size_t encode(const Heartbeat& m, std::span<std::byte> out);
+std::size_t encode(const Bye& m, std::span<std::byte> out);
+
+WireResult decode(std::span<const std::byte> packet, Welcome& out);
+WireResult decode(std::span<const std::byte> packet, Join& out);
+WireResult decode(std::span<const std::byte> packet, Accept& out);
+WireResult decode(std::span<const std::byte> packet, Hello& out);
+WireResult decode(std::span<const std::byte> packet, TargetMap& out);
+WireResult decode(std::span<const std::byte> packet, Heartbeat& out);
+WireResult decode(std::span<const std::byte> packet, Bye& out);
+
+// The rules a hello or target map must follow (the encoder and the decoder both apply them).
+WireResult validate(const Hello& m);
+WireResult validate(const TargetMap& m);
+
+}  // namespace deixis::net
