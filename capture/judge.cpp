@@ -1,0 +1,124 @@
+#include "capture/judge.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "capture/dataset.h"
+#include "gesture/error.h"
+#include "gesture/features.h"
+#include "gesture/nn/mpnet.h"
+
+namespace deixis::capture {
+
+namespace {
+
+namespace fs = std::filesystem;
+constexpr int kRows = nn::kWindowRows;
+constexpr int kCols = nn::kMpnetFeatures;
+
+// MPE of one sequence: rows [begin, end) of the dataset against their labels.
+MpeSum sequence_mpe(const nn::Mpnet& net, const Dataset& d, std::size_t begin, std::size_t end,
+                    bool unmirror_theta) {
+  const std::span<const float> rows(d.mpnet_features.data() + begin * kCols, (end - begin) * kCols);
+  const std::vector<Labels> p = predict_progressions(net, rows, unmirror_theta);
+  MpeSum sum;
+  for (std::size_t t = 0; t < p.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      sum.error[k] += std::abs(static_cast<double>(p[t][k] - d.labels[(begin + t) * 3 + k]));
+    }
+    ++sum.frames;
+  }
+  return sum;
+}
+
+std::vector<fs::path> test_files(const JudgeOptions& options) {
+  std::vector<fs::path> files;
+  if (!options.subjects.empty()) {
+    for (const std::string& s : options.subjects) {
+      files.push_back(options.dataset_dir / ("test_" + s + ".safetensors"));
+    }
+    return files;
+  }
+  if (!fs::is_directory(options.dataset_dir)) {
+    throw Error(options.dataset_dir.string() + ": not a directory");
+  }
+  for (const auto& entry : fs::directory_iterator(options.dataset_dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with("test_") && name.ends_with(".safetensors")) {
+      files.push_back(entry.path());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  if (files.empty()) {
+    throw Error(options.dataset_dir.string() +
+                ": no test_<subject>.safetensors files (run `deixis capture generate` first)");
+  }
+  return files;
+}
+
+}  // namespace
+
+std::vector<Labels> predict_progressions(const nn::Mpnet& net, std::span<const float> stored,
+                                         bool unmirror_theta) {
+  const std::size_t n = stored.size() / kCols;
+  std::vector<float> rows(stored.begin(), stored.end());
+  if (unmirror_theta) {
+    for (std::size_t r = 0; r < n; ++r) {
+      rows[r * kCols + mf::kTarget + tf::kHeadTheta] *= -1.0f;
+      rows[r * kCols + mf::kTarget + tf::kHandTheta] *= -1.0f;
+    }
+  }
+  std::vector<Labels> out(n);
+  std::array<float, nn::kMpnetWindowSize> window{};
+  for (std::size_t t = 0; t < n; ++t) {
+    // Rows t−29 … t; the first row stands in for rows before the sequence (29 copies, NOTES §7.1).
+    for (int r = 0; r < kRows; ++r) {
+      const long source = std::max(0L, static_cast<long>(t) - (kRows - 1) + r);
+      std::copy_n(rows.begin() + source * kCols, kCols, window.begin() + r * kCols);
+    }
+    const nn::Progression p = net.run(window).progression;
+    out[t] = {p[0], p[1], p[2]};
+  }
+  return out;
+}
+
+std::filesystem::path authors_checkpoint(const std::filesystem::path& reference_dir, Hand hand,
+                                         const std::string& name) {
+  return reference_dir / "weights" / (hand == Hand::kLeft ? "left" : "right") / name;
+}
+
+void MpeSum::add(const MpeSum& other) {
+  for (int k = 0; k < 3; ++k) {
+    error[k] += other.error[k];
+  }
+  frames += other.frames;
+}
+
+std::vector<SubjectVerdict> judge(const JudgeOptions& options) {
+  const fs::path right_path =
+      authors_checkpoint(options.reference_dir, Hand::kRight, options.checkpoint);
+  const fs::path left_path =
+      authors_checkpoint(options.reference_dir, Hand::kLeft, options.checkpoint);
+  const nn::Mpnet right = nn::Mpnet::load(right_path);
+  std::vector<SubjectVerdict> verdicts;
+  for (const fs::path& file : test_files(options)) {
+    const Dataset d = Dataset::read(file);
+    SubjectVerdict v;
+    v.subject = d.metadata.count("subject") ? d.metadata.at("subject") : file.stem().string();
+    v.left_handed = d.metadata.count("deictic_hand") && d.metadata.at("deictic_hand") == "left";
+    v.checkpoint = (v.left_handed ? left_path : right_path).string();
+    const nn::Mpnet net = v.left_handed ? nn::Mpnet::load(left_path) : right;
+    for (std::size_t s = 0; s < d.sequences(); ++s) {
+      const MpeSum m = sequence_mpe(net, d, d.begin(s), d.end(s), v.left_handed);
+      v.categories[static_cast<std::size_t>(d.sequence_category[s])].add(m);
+      v.all.add(m);
+      if (v.left_handed) {
+        v.right_checkpoint_on_stored_rows.add(sequence_mpe(right, d, d.begin(s), d.end(s), false));
+      }
+    }
+    verdicts.push_back(std::move(v));
+  }
+  return verdicts;
+}
+
+}  // namespace deixis::capture

@@ -1,0 +1,35 @@
+#pragma once
+// Random targets around a recorded person (stance frame, then the world): pointing targets
+// 0.3–5 m from the eyes within ±75° of azimuth, touch targets within reach (checked with the
+// same torso plan the touch will use), and the other person (id 0, gesture/target_map.h) as the
+// listener of the explanation categories. Successive targets of one sequence are kept apart so
+// that a change of target is a real gesture.
+
+#include <vector>
+
+#include "capture/motion.h"
+#include "gesture/target_map.h"
+
+namespace deixis::capture {
+
+class TargetSampler {
+ public:
+  TargetSampler(const Motion& motion, Random& rng);
+
+  // Each new target is at least `min_separation` (rad, seen from the eyes) from `others`.
+  TargetObject pointing(TargetId id, const std::vector<TargetObject>& others);
+  TargetObject touching(TargetId id, const std::vector<TargetObject>& others);
+  TargetObject partner(const std::vector<TargetObject>& others);
+
+  static constexpr float kMinSeparation = 0.35f;  // 20°
+
+ private:
+  Vec3 eyes() const;
+  Vec3 in_world(const Vec3& p_stance) const;
+  bool apart(const Vec3& p, const std::vector<TargetObject>& others) const;
+
+  const Motion& motion_;
+  Random& rng_;
+};
+
+}  // namespace deixis::capture
