@@ -17,10 +17,9 @@ constexpr int kRows = nn::kWindowRows;
 constexpr int kCols = nn::kMpnetFeatures;
 
 // MPE of one sequence: rows [begin, end) of the dataset against their labels.
-MpeSum sequence_mpe(const nn::Mpnet& net, const Dataset& d, std::size_t begin, std::size_t end,
-                    bool unmirror_theta) {
+MpeSum sequence_mpe(const nn::Mpnet& net, const Dataset& d, std::size_t begin, std::size_t end) {
   const std::span<const float> rows(d.mpnet_features.data() + begin * kCols, (end - begin) * kCols);
-  const std::vector<Labels> p = predict_progressions(net, rows, unmirror_theta);
+  const std::vector<Labels> p = predict_progressions(net, rows);
   MpeSum sum;
   for (std::size_t t = 0; t < p.size(); ++t) {
     for (int k = 0; k < 3; ++k) {
@@ -58,16 +57,8 @@ std::vector<fs::path> test_files(const JudgeOptions& options) {
 
 }  // namespace
 
-std::vector<Labels> predict_progressions(const nn::Mpnet& net, std::span<const float> stored,
-                                         bool unmirror_theta) {
-  const std::size_t n = stored.size() / kCols;
-  std::vector<float> rows(stored.begin(), stored.end());
-  if (unmirror_theta) {
-    for (std::size_t r = 0; r < n; ++r) {
-      rows[r * kCols + mf::kTarget + tf::kHeadTheta] *= -1.0f;
-      rows[r * kCols + mf::kTarget + tf::kHandTheta] *= -1.0f;
-    }
-  }
+std::vector<Labels> predict_progressions(const nn::Mpnet& net, std::span<const float> rows) {
+  const std::size_t n = rows.size() / kCols;
   std::vector<Labels> out(n);
   std::array<float, nn::kMpnetWindowSize> window{};
   for (std::size_t t = 0; t < n; ++t) {
@@ -109,12 +100,9 @@ std::vector<SubjectVerdict> judge(const JudgeOptions& options) {
     v.checkpoint = (v.left_handed ? left_path : right_path).string();
     const nn::Mpnet net = v.left_handed ? nn::Mpnet::load(left_path) : right;
     for (std::size_t s = 0; s < d.sequences(); ++s) {
-      const MpeSum m = sequence_mpe(net, d, d.begin(s), d.end(s), v.left_handed);
+      const MpeSum m = sequence_mpe(net, d, d.begin(s), d.end(s));
       v.categories[static_cast<std::size_t>(d.sequence_category[s])].add(m);
       v.all.add(m);
-      if (v.left_handed) {
-        v.right_checkpoint_on_stored_rows.add(sequence_mpe(right, d, d.begin(s), d.end(s), false));
-      }
     }
     verdicts.push_back(std::move(v));
   }

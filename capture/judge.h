@@ -3,13 +3,9 @@
 // subjects' sequences the way their test_MPNet.py does (NOTES §7.1): each sequence is prefixed
 // with 29 copies of its first row, every 30-row window is fed, and the output is compared with
 // the labels of the window's newest row; MPE = mean |p − p̂| per channel, total = mean of the
-// three. Right-handed subjects use the right checkpoint, left-handed ones the left.
-//
-// The datasets store MPNet rows as gesture/features.h computes them, which mirrors a left-handed
-// person into the right-handed view (θ^H and θ^R negated). The authors' left checkpoint was
-// trained on mirrored right-handed data, i.e. on left-handed people seen *unmirrored*, so for it
-// the judge negates both θ back (docs/decisions.md). It also reports the right checkpoint on the
-// rows as stored, for comparison.
+// three. Right-handed subjects use the right checkpoint, left-handed ones the left, each on the
+// rows as stored: gesture/features.h sees every person in their own view, which is what the
+// checkpoint of their hand was trained on (docs/decisions.md §17).
 
 #include <array>
 #include <filesystem>
@@ -37,7 +33,6 @@ struct SubjectVerdict {
   std::string checkpoint;                         // the one of the authors' protocol
   std::array<MpeSum, kCategoryCount> categories;  // by Category
   MpeSum all;
-  MpeSum right_checkpoint_on_stored_rows;  // left-handed subjects only: the comparison
 };
 
 struct JudgeOptions {
@@ -51,9 +46,9 @@ struct JudgeOptions {
 std::vector<SubjectVerdict> judge(const JudgeOptions& options);
 
 // MPNet's progression for every row of one sequence (rows: n × 11, as stored), as the judge
-// computes them; `unmirror_theta` negates both θ first (the left checkpoint, see above).
-std::vector<Labels> predict_progressions(const nn::Mpnet& net, std::span<const float> rows,
-                                         bool unmirror_theta);
+// computes them. Rows are in the person's own view (gesture/features.h), which is what the
+// checkpoint of their hand expects.
+std::vector<Labels> predict_progressions(const nn::Mpnet& net, std::span<const float> rows);
 
 // The checkpoint of the authors' protocol for a hand: <reference>/weights/{right,left}/<name>.
 std::filesystem::path authors_checkpoint(const std::filesystem::path& reference_dir, Hand hand,

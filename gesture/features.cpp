@@ -39,15 +39,10 @@ float unsigned_angle(const Vec3& a, const Vec3& b) {
 }
 
 TargetFeature target_feature_from_root(const Pose& T_world_root, const Vec3& head_target_world,
-                                       const Vec3& hand_target_world, Hand deictic_hand) {
+                                       const Vec3& hand_target_world) {
   const Pose T_root_world = inverse(T_world_root);
-  TargetFeature t =
-      target_feature(to_network_frame(transform_point(T_root_world, head_target_world)),
-                     to_network_frame(transform_point(T_root_world, hand_target_world)));
-  if (deictic_hand == Hand::kLeft) {
-    mirror_target_feature(t);
-  }
-  return t;
+  return target_feature(to_network_frame(transform_point(T_root_world, head_target_world)),
+                        to_network_frame(transform_point(T_root_world, hand_target_world)));
 }
 
 MpnetFeatureRow mpnet_features(const TrackingFrame& frame, const BodyCalibration& body) {
@@ -68,7 +63,7 @@ MpnetFeatureRow mpnet_features(const TrackingFrame& frame, const BodyCalibration
   row[mf::kFingerToDown] = unsigned_angle(to_finger, kDown);
   row[mf::kNearRest] = wrist_from_rest < kNearRestDistance ? 1.0f : 0.0f;
   const TargetFeature t = target_feature_from_root(body.T_world_root, frame.head_target_position,
-                                                   frame.hand_target_position, hand);
+                                                   frame.hand_target_position);
   for (int k = 0; k < kTargetFeatureSize; ++k) {
     row[mf::kTarget + k] = t[k];
   }
@@ -89,18 +84,10 @@ EndEffectors end_effectors(const TrackingFrame& frame, const BodyCalibration& bo
   write_pose(to_network_frame(T_root_head), ee::kHeadForward, ee::kHeadUp, ee::kHeadPosition, x);
   write_pose(to_network_frame(T_head_wrist), ee::kHandForward, ee::kHandUp, ee::kHandPosition, x);
   set_vec3(x, ee::kFingertip, to_network_frame(tip_in_wrist));
-  if (hand == Hand::kLeft) {
-    mirror_end_effectors(x);
-  }
   return x;
 }
 
-EndEffectorPoses decode_end_effectors(const EndEffectors& network_x, const Pose& T_world_root,
-                                      Hand deictic_hand) {
-  EndEffectors x = network_x;
-  if (deictic_hand == Hand::kLeft) {
-    mirror_end_effectors(x);
-  }
+EndEffectorPoses decode_end_effectors(const EndEffectors& x, const Pose& T_world_root) {
   EndEffectorPoses out;
   const Pose T_root_head = decode_pose(x, ee::kHeadForward, ee::kHeadUp, ee::kHeadPosition);
   const Pose T_head_wrist = decode_pose(x, ee::kHandForward, ee::kHandUp, ee::kHandPosition);

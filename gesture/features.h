@@ -4,8 +4,11 @@
 // DESIGN §4 and NOTES §2–§4 define them; and back from end-effectors to world poses for IK.
 //
 // Conventions: angles in radians; vectors entering or leaving a network pass through the
-// network-frame adapter (gesture/math/network_frame.h); left-handed people are mirrored so that
-// the networks always see a right-handed person (DESIGN §4).
+// network-frame adapter (gesture/math/network_frame.h). A person is seen as they are: a
+// left-handed person's deictic hand is their left hand, in their own (unmirrored) view, which is
+// what left-hand weights expect, because they are trained on the mirror image of right-handed
+// data (paper §III.C; NOTES §2.4; docs/decisions.md §17). So a left-handed person needs the
+// left-hand weights; the mirroring itself happens only where training data is made.
 
 #include <array>
 
@@ -35,29 +38,27 @@ inline constexpr float kNearRestDistance = 0.25f;
 float unsigned_angle(const Vec3& a, const Vec3& b);
 
 // The target feature (θ^H, φ^H, θ^R, φ^R, r^R) of two world positions seen from a root (NOTES
-// §2.4), in the network frame, mirrored for a left-handed person.
+// §2.4), in the network frame.
 TargetFeature target_feature_from_root(const Pose& T_world_root, const Vec3& head_target_world,
-                                       const Vec3& hand_target_world, Hand deictic_hand);
+                                       const Vec3& hand_target_world);
 
 // MPNet's 11 inputs for one frame of a person whose tracking is complete (the caller substitutes
 // held frames for missing ones). Targets are the frame's head and hand target positions.
 MpnetFeatureRow mpnet_features(const TrackingFrame& frame, const BodyCalibration& body);
 
-// The person's end-effectors x (network frame; a left-handed person is mirrored): gaze in the head
-// frame, head relative to root O, deictic wrist in the head frame, index fingertip in the wrist
-// frame.
+// The person's end-effectors x (network frame): gaze in the head frame, head relative to root O,
+// the deictic hand's wrist in the head frame, its index fingertip in the wrist frame.
 EndEffectors end_effectors(const TrackingFrame& frame, const BodyCalibration& body);
 
-// World poses decoded from end-effectors x (as the networks produce them: network frame, mirrored
-// for a left-handed person), for a body whose root is T_world_root. Rotations are decoded with
-// Gram–Schmidt (always proper). The input of IK and of the metrics.
+// World poses decoded from end-effectors x (as the networks produce them, network frame) for a
+// body whose root is T_world_root; the wrist is the deictic hand's. Rotations are decoded with
+// Gram–Schmidt (always proper). The input of IK.
 struct EndEffectorPoses {
   Vec3 gaze;           // unit, world
   Pose T_world_head;   // H
   Pose T_world_wrist;  // the deictic hand's wrist
   Vec3 index_tip;      // world
 };
-EndEffectorPoses decode_end_effectors(const EndEffectors& x, const Pose& T_world_root,
-                                      Hand deictic_hand);
+EndEffectorPoses decode_end_effectors(const EndEffectors& x, const Pose& T_world_root);
 
 }  // namespace deixis

@@ -65,8 +65,7 @@ TranslationInput Translator::input_for(const TrackingFrame& frame, const LocalTa
   in.avatar_target = target_feature_from_root(
       config_.T_world_avatar_root,
       avatar_target_position(frame.head_target, frame.head_target_position, room),
-      avatar_target_position(frame.hand_target, frame.hand_target_position, room),
-      config_.user.deictic_hand);
+      avatar_target_position(frame.hand_target, frame.hand_target_position, room));
   return in;
 }
 
@@ -123,8 +122,7 @@ AvatarFrame Translator::tick(const TrackingFrame* frame, const LocalTargets& roo
   }
 
   out.ready = true;
-  out.deictic =
-      decode_end_effectors(step.avatar_x, config_.T_world_avatar_root, config_.user.deictic_hand);
+  out.deictic = decode_end_effectors(step.avatar_x, config_.T_world_avatar_root);
   out.other_wrist_in_head = last_other_wrist_in_head_;
   out.other_wrist_in_head.translation /= loop_.scale();
   out.progression = step.progression;

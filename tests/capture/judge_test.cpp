@@ -56,7 +56,7 @@ TEST(Judge, AMismatchedLabelIsSeen) {
   }
   const nn::Mpnet net =
       nn::Mpnet::load(authors_checkpoint(deixis::testing::reference_dir(), Hand::kRight));
-  const std::vector<Labels> p = predict_progressions(net, rows, false);
+  const std::vector<Labels> p = predict_progressions(net, rows);
   double right = 0;
   double shifted = 0;
   const std::size_t lag = 20;

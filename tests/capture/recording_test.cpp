@@ -42,15 +42,18 @@ TEST(Mirror, IsItsOwnInverseAndMakesALeftHandedTwin) {
     // The twin's left wrist is a proper rotation in the left-hand convention.
     EXPECT_NEAR(m.frames[i].T_world_wrist[0].rotation.determinant(), 1.0f, 1e-5f);
   }
-  // The feature code mirrors left-handed people into the right-handed view, so the twin's
-  // network vectors equal the original's.
+  // The feature code sees each person in their own view, so the twin's network vectors are the
+  // mirror image of the original's (both θ and every 3-vector's x negated): the left-hand
+  // weights' training data (docs/decisions.md §17).
   for (std::size_t i = 0; i < s.size(); i += 11) {
     const MpnetFeatureRow a = mpnet_features(s.frames[i], s.calibration);
     const MpnetFeatureRow b = mpnet_features(m.frames[i], m.calibration);
-    const EndEffectors x = end_effectors(s.frames[i], s.calibration);
+    EndEffectors x = end_effectors(s.frames[i], s.calibration);
+    mirror_end_effectors(x);
     const EndEffectors y = end_effectors(m.frames[i], m.calibration);
     for (int k = 0; k < kMpnetFeatureCount; ++k) {
-      ASSERT_NEAR(a[k], b[k], 1e-4f) << "frame " << i << " column " << k;
+      const bool theta = k == mf::kTarget + tf::kHeadTheta || k == mf::kTarget + tf::kHandTheta;
+      ASSERT_NEAR(theta ? -a[k] : a[k], b[k], 1e-4f) << "frame " << i << " column " << k;
     }
     for (int k = 0; k < kEndEffectorSize; ++k) {
       ASSERT_NEAR(x[k], y[k], 1e-4f) << "frame " << i << " index " << k;
