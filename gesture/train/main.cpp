@@ -50,7 +50,9 @@ void add_common(CLI::App* cmd, Flags& f, const std::string& architectures) {
         ->check(CLI::IsMember({"AC", "DG"}))
         ->capture_default_str();
   }
-  cmd->add_option("--hand", f.hand, "right, or left: trained on the mirrored data (paper §III.C)")
+  cmd->add_option("--hand", f.hand,
+                  "right, or left: files of the other hand are mirrored into this hand's view "
+                  "(paper §III.C)")
       ->check(CLI::IsMember({"right", "left"}))
       ->capture_default_str();
   cmd->add_option("--out", f.out, "Output directory: checkpoint, weights, manifest")->required();
@@ -86,8 +88,8 @@ std::vector<Sequence> load(const std::vector<std::string>& files, Variant varian
       if (variant == Variant::kDeicticOnly && !is_deictic_gesture(s.category)) {
         continue;
       }
-      if (hand == Hand::kLeft) {
-        mirror(s);
+      if (d.hand != hand) {
+        mirror(s);  // another hand's view: its mirror image is this hand's (paper §III.C)
       }
       sequences.push_back(std::move(s));
     }

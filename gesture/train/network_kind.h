@@ -7,6 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include "gesture/tracking.h"
+
 namespace deixis::train {
 
 enum class Family { kMpnet, kUgnet, kMotionAutoencoder };
@@ -26,7 +28,7 @@ enum class Network {
 // Table I "Ours_DG"; which categories count is docs/decisions.md).
 enum class Variant { kAllCategories, kDeicticOnly };
 
-enum class Hand { kRight, kLeft };
+using deixis::Hand;  // gesture/tracking.h
 
 Family family_of(Network network);
 std::string_view network_name(Network network);  // "MPNet(MoE)"

@@ -60,54 +60,60 @@ TEST(Dataset, RejectsEveryCorruptionNamingFileAndField) {
   const std::vector<Sequence> s = test_data::synthetic_sequences(3, 50, 2);
   const std::int64_t frames = 150;
   const std::vector<std::pair<const char*, SafetensorsWriter>> cases = {
-      {"pose", with_tensor_replaced(s, "pose", [](SafetensorsWriter&) {})},  // missing
-      {"features", with_tensor_replaced(
-                       s, "features",
-                       [&](SafetensorsWriter& w) {
-                         w.add_f32("features", {frames, 12}, std::vector<float>(frames * 12, 0.0f));
-                       })},
-      {"progression",
+      {"end_effectors",
+       with_tensor_replaced(s, "end_effectors", [](SafetensorsWriter&) {})},  // missing
+      {"mpnet_features",
        with_tensor_replaced(
-           s, "progression",
+           s, "mpnet_features",
            [&](SafetensorsWriter& w) {
-             w.add_f32("progression", {frames - 1, 3}, std::vector<float>((frames - 1) * 3, 0.0f));
+             w.add_f32("mpnet_features", {frames, 12}, std::vector<float>(frames * 12, 0.0f));
            })},
-      {"progression", with_tensor_replaced(s, "progression",
-                                           [&](SafetensorsWriter& w) {
-                                             std::vector<float> v(frames * 3, 0.5f);
-                                             v[7] = 1.5f;
-                                             w.add_f32("progression", {frames, 3}, v);
-                                           })},
-      {"pose", with_tensor_replaced(s, "pose",
-                                    [&](SafetensorsWriter& w) {
-                                      std::vector<float> v(frames * 24, 0.0f);
-                                      v[100] = std::numeric_limits<float>::quiet_NaN();
-                                      w.add_f32("pose", {frames, 24}, v);
-                                    })},
-      {"sequence_frames", with_tensor_replaced(s, "sequence_frames",
-                                               [](SafetensorsWriter& w) {
-                                                 const std::vector<std::int64_t> v = {50, 50, 49};
-                                                 w.add_i64("sequence_frames", {3}, v);
-                                               })},
-      {"sequence_frames", with_tensor_replaced(s, "sequence_frames",
-                                               [](SafetensorsWriter& w) {
-                                                 const std::vector<std::int64_t> v = {50, 0, 100};
-                                                 w.add_i64("sequence_frames", {3}, v);
-                                               })},
-      {"sequence_frames", with_tensor_replaced(s, "sequence_frames",
-                                               [](SafetensorsWriter& w) {
-                                                 const std::vector<float> v = {50, 50, 50};
-                                                 w.add_f32("sequence_frames", {3}, v);
-                                               })},
+      {"labels",
+       with_tensor_replaced(
+           s, "labels",
+           [&](SafetensorsWriter& w) {
+             w.add_f32("labels", {frames - 1, 3}, std::vector<float>((frames - 1) * 3, 0.0f));
+           })},
+      {"labels", with_tensor_replaced(s, "labels",
+                                      [&](SafetensorsWriter& w) {
+                                        std::vector<float> v(frames * 3, 0.5f);
+                                        v[7] = 1.5f;
+                                        w.add_f32("labels", {frames, 3}, v);
+                                      })},
+      {"end_effectors", with_tensor_replaced(s, "end_effectors",
+                                             [&](SafetensorsWriter& w) {
+                                               std::vector<float> v(frames * 24, 0.0f);
+                                               v[100] = std::numeric_limits<float>::quiet_NaN();
+                                               w.add_f32("end_effectors", {frames, 24}, v);
+                                             })},
+      {"sequence_offsets",
+       with_tensor_replaced(s, "sequence_offsets",
+                            [](SafetensorsWriter& w) {
+                              const std::vector<std::int64_t> v = {0, 50, 100, 149};
+                              w.add_i64("sequence_offsets", {4}, v);
+                            })},
+      {"sequence_offsets",
+       with_tensor_replaced(s, "sequence_offsets",
+                            [](SafetensorsWriter& w) {
+                              const std::vector<std::int64_t> v = {0, 50, 50, 150};
+                              w.add_i64("sequence_offsets", {4}, v);
+                            })},
+      {"sequence_offsets", with_tensor_replaced(s, "sequence_offsets",
+                                                [](SafetensorsWriter& w) {
+                                                  const std::vector<float> v = {0, 50, 100, 150};
+                                                  w.add_f32("sequence_offsets", {4}, v);
+                                                })},
       {"sequence_category", with_tensor_replaced(s, "sequence_category",
                                                  [](SafetensorsWriter& w) {
-                                                   const std::vector<std::int64_t> v = {0, 10, 1};
-                                                   w.add_i64("sequence_category", {3}, v);
+                                                   const std::vector<std::int32_t> v = {0, 10, 1};
+                                                   w.add("sequence_category", DType::kI32, {3},
+                                                         std::as_bytes(std::span(v)));
                                                  })},
       {"sequence_category", with_tensor_replaced(s, "sequence_category",
                                                  [](SafetensorsWriter& w) {
-                                                   const std::vector<std::int64_t> v = {0, 1};
-                                                   w.add_i64("sequence_category", {2}, v);
+                                                   const std::vector<std::int32_t> v = {0, 1};
+                                                   w.add("sequence_category", DType::kI32, {2},
+                                                         std::as_bytes(std::span(v)));
                                                  })},
   };
   for (const auto& [field, writer] : cases) {

@@ -232,12 +232,12 @@ TEST_F(Executable, ACorruptDatasetIsAnErrorNamingFileAndField) {
   const fs::path bad = dir_.path() / "bad.safetensors";
   SafetensorsWriter writer;
   const std::vector<float> features(60 * 12, 0.0f);
-  writer.add_f32("features", {60, 12}, features);
+  writer.add_f32("mpnet_features", {60, 12}, features);
   writer.write(bad);
   const Result r = run(command(bad, validation_, dir_.path() / "out"), dir_.path() / "bad.log");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("bad.safetensors"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("'features'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("'mpnet_features'"), std::string::npos) << r.output;
 }
 
 }  // namespace
