@@ -1,5 +1,7 @@
 #include "ik/skeleton.h"
 
+#include <array>
+
 #include "gesture/error.h"
 
 namespace deixis::ik {
@@ -42,6 +44,51 @@ void local_to_model(const Skeleton& skeleton, std::span<const Pose> local, std::
   for (int i = 0; i < n; ++i) {
     const int parent = skeleton.parents[i];
     model[i] = parent == kNoParent ? local[i] : compose(model[parent], local[i]);
+  }
+}
+
+std::vector<Pose> rest_model_poses(const Skeleton& skeleton) {
+  std::vector<Pose> model(skeleton.rest_local.size());
+  local_to_model(skeleton, skeleton.rest_local, model);
+  return model;
+}
+
+bool is_ancestor(const Skeleton& skeleton, int ancestor, int joint) {
+  for (int j = joint; j != kNoParent; j = skeleton.parents[j]) {
+    if (j == ancestor) {
+      return true;
+    }
+  }
+  return false;
+}
+
+void update_model_path(const Skeleton& skeleton, std::span<const Pose> local, std::span<Pose> model,
+                       int from, int joint) {
+  // The path is at most as deep as a humanoid limb; walk it upward into a fixed array, then
+  // recompute downward. A deeper path (unheard of in humanoids) recomputes the whole index range
+  // [from, joint] instead, which depth-first order makes correct too.
+  constexpr int kMaxDepth = 64;
+  std::array<int, kMaxDepth> path{};
+  int n = 0;
+  int j = joint;
+  while (j != from && j != kNoParent && n < kMaxDepth) {
+    path[n++] = j;
+    j = skeleton.parents[j];
+  }
+  if (j != from || n == kMaxDepth) {
+    for (int i = from; i <= joint; ++i) {
+      const int parent = skeleton.parents[i];
+      model[i] = parent == kNoParent ? local[i] : compose(model[parent], local[i]);
+    }
+    return;
+  }
+  const auto update = [&](int i) {
+    const int parent = skeleton.parents[i];
+    model[i] = parent == kNoParent ? local[i] : compose(model[parent], local[i]);
+  };
+  update(from);
+  for (int k = n - 1; k >= 0; --k) {
+    update(path[k]);
   }
 }
 

@@ -31,4 +31,17 @@ void validate(const Skeleton& skeleton, std::string_view source);
 // allocation. `model` and `local` must both hold joint_count() poses.
 void local_to_model(const Skeleton& skeleton, std::span<const Pose> local, std::span<Pose> model);
 
+// T_model_joint of every joint in the rest pose (allocates: load time only).
+std::vector<Pose> rest_model_poses(const Skeleton& skeleton);
+
+// True when `ancestor` is `joint` or one of its ancestors.
+bool is_ancestor(const Skeleton& skeleton, int ancestor, int joint);
+
+// After the local poses of joints between `from` and `joint` changed, recomputes T_model_joint for
+// the joints on the path from `from` (an ancestor of `joint`, or `joint` itself) down to `joint`
+// only, so IK jobs stay cheap on skeletons with many fingers. model[parent of `from`] must be
+// current; other joints are left as they were. No allocation.
+void update_model_path(const Skeleton& skeleton, std::span<const Pose> local, std::span<Pose> model,
+                       int from, int joint);
+
 }  // namespace deixis::ik
