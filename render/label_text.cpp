@@ -1,0 +1,90 @@
+#include "render/label_text.h"
+
+#include <algorithm>
+#include <limits>
+#include <string>
+
+#include <stb_easy_font.h>
+
+namespace deixis::render {
+namespace {
+
+// stb_easy_font's vertex record (stb_easy_font.h): x, y, z as floats, then RGBA bytes.
+struct EasyFontVertex {
+  float x, y, z;
+  unsigned char rgba[4];
+};
+static_assert(sizeof(EasyFontVertex) == 16);
+
+constexpr float kPadding = 2.0f;  // font pixels of backing plate around the glyphs
+
+// stb_easy_font indexes its glyph table with (char − 32) unchecked, so only printable ASCII may
+// reach it; a newline would start a second line, which a label does not have.
+std::string printable(std::string_view text) {
+  std::string out(text);
+  for (char& c : out) {
+    if (c < 32 || c > 126) {
+      c = '?';
+    }
+  }
+  return out;
+}
+
+OverlayVertex vertex(float x, float y, const Colour& colour) {
+  return {{x, y, 0.0f}, {colour.x(), colour.y(), colour.z(), colour.w()}};
+}
+
+void append_rectangle(std::vector<OverlayVertex>& out, float x0, float y0, float x1, float y1,
+                      const Colour& colour) {
+  out.insert(out.end(), {vertex(x0, y0, colour), vertex(x1, y0, colour), vertex(x1, y1, colour),
+                         vertex(x0, y0, colour), vertex(x1, y1, colour), vertex(x0, y1, colour)});
+}
+
+}  // namespace
+
+LabelExtent append_label(std::string_view text, const Colour& text_colour,
+                         const Colour& backing_colour, std::vector<OverlayVertex>& vertices) {
+  std::string line = printable(text);
+  // ~270 bytes per character on average (stb_easy_font.h); give it room for the worst glyphs.
+  std::vector<EasyFontVertex> quads(line.size() * 64 + 64);
+  const int quad_count =
+      stb_easy_font_print(0.0f, 0.0f, line.data(), nullptr, quads.data(),
+                          static_cast<int>(quads.size() * sizeof(EasyFontVertex)));
+  quads.resize(static_cast<std::size_t>(quad_count) * 4);
+
+  // stb's y grows downwards; label space's grows upwards.
+  float min_x = std::numeric_limits<float>::max();
+  float max_x = std::numeric_limits<float>::lowest();
+  float min_y = std::numeric_limits<float>::max();
+  float max_y = std::numeric_limits<float>::lowest();
+  for (EasyFontVertex& v : quads) {
+    v.y = -v.y;
+    min_x = std::min(min_x, v.x);
+    max_x = std::max(max_x, v.x);
+    min_y = std::min(min_y, v.y);
+    max_y = std::max(max_y, v.y);
+  }
+  if (quads.empty()) {  // blank text: a small empty plate
+    min_x = max_x = min_y = max_y = 0.0f;
+  }
+  const float shift_x = -0.5f * (min_x + max_x);
+  const float shift_y = kPadding - min_y;
+  const float width = max_x - min_x + 2.0f * kPadding;
+  const float height = max_y - min_y + 2.0f * kPadding;
+
+  LabelExtent extent;
+  extent.first = static_cast<GLint>(vertices.size());
+  append_rectangle(vertices, -0.5f * width, 0.0f, 0.5f * width, height, backing_colour);
+  for (std::size_t q = 0; q < quads.size(); q += 4) {
+    const EasyFontVertex& a = quads[q];
+    const EasyFontVertex& c = quads[q + 2];
+    append_rectangle(vertices, a.x + shift_x, a.y + shift_y, c.x + shift_x, c.y + shift_y,
+                     text_colour);
+  }
+  extent.count = static_cast<GLsizei>(vertices.size()) - extent.first;
+  extent.width = width;
+  extent.height = height;
+  return extent;
+}
+
+}  // namespace deixis::render

@@ -1,0 +1,305 @@
+// Headless renders of known scenes (EGL surfaceless, llvmpipe) checked by where pixels are and
+// what colour they have: the skinned arm's silhouette, its pointing side, a bent elbow, the
+// avatar's placement in the room, target objects in their colours, labels, floor and debug lines.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+#include <optional>
+
+#include "gesture/error.h"
+#include "render/headless_context.h"
+#include "render/renderer.h"
+#include "render_fixtures.h"
+
+namespace deixis::render {
+namespace {
+
+using namespace deixis::render::testing;
+
+class HeadlessRenderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    context_.emplace(kWidth, kHeight);
+    renderer_.emplace();
+    skeleton_ = arm_skeleton();
+    arm_ = renderer_->add_skinned_mesh(arm_mesh(skeleton_));
+  }
+  void TearDown() override {
+    renderer_.reset();  // GL objects go while the context is current
+    context_.reset();
+  }
+
+  // Renders the arm in `pose` (and whatever else `view` holds) without floor or targets unless
+  // asked for.
+  Image render_arm(const std::vector<Pose>& pose, SceneView view = bare_view(),
+                   const Pose& T_world_model = Pose{}) {
+    const AvatarDraw avatar{arm_, T_world_model, pose};
+    view.avatars = {&avatar, 1};
+    renderer_->render(view, context_->target());
+    context_->present();
+    check_gl("render");
+    return read_pixels(context_->target());
+  }
+
+  static SceneView bare_view() {
+    SceneView view;
+    view.camera = front_camera();
+    view.show_floor = false;
+    view.show_targets = false;
+    return view;
+  }
+
+  bool is_background(const Rgb& p) const {
+    return near(p, to_rgb(renderer_->options().background), 2);
+  }
+  bool is_foreground(const Rgb& p) const { return !is_background(p); }
+
+  int foreground_in(const Image& image, Region r) const {
+    return count_pixels(image, r, [this](const Rgb& p) { return is_foreground(p); });
+  }
+
+  std::optional<HeadlessContext> context_;
+  std::optional<Renderer> renderer_;
+  ik::Skeleton skeleton_;
+  SkinnedMeshId arm_;
+};
+
+TEST_F(HeadlessRenderTest, ArmSilhouetteIsWhereTheBonesAre) {
+  const Camera camera = front_camera();
+  const Image image = render_arm(arm_pose(skeleton_, Mat3::Identity(), Mat3::Identity()));
+  // Along both bones: arm. A tube radius and more above and below them, and on the other side of
+  // the shoulder: background.
+  for (float x = 0.05f; x < kUpperArm + kForearm - 0.02f; x += 0.05f) {
+    SCOPED_TRACE(x);
+    EXPECT_TRUE(is_foreground(pixel_at(image, camera, kShoulder + Vec3(x, 0, 0))));
+    EXPECT_TRUE(is_background(pixel_at(image, camera, kShoulder + Vec3(x, 0.15f, 0))));
+    EXPECT_TRUE(is_background(pixel_at(image, camera, kShoulder + Vec3(x, -0.15f, 0))));
+    EXPECT_TRUE(is_background(pixel_at(image, camera, kShoulder + Vec3(-x - 0.1f, 0, 0))));
+  }
+  // The silhouette's area is the projected tube's (0.65 m × 0.12 m at 2.5 m), within a margin.
+  const float pixels_per_metre = kHeight / (2.0f * 2.5f * std::tan(0.5f * 1.0471976f));
+  const float expected =
+      (kUpperArm + kForearm) * 2 * kArmRadius * pixels_per_metre * pixels_per_metre;
+  const int area = foreground_in(image, whole(image));
+  EXPECT_GT(area, 0.7f * expected);
+  EXPECT_LT(area, 1.4f * expected);
+}
+
+TEST_F(HeadlessRenderTest, ArmPointingRightOrLeftPutsItsPixelsOnThatSide) {
+  const Region left{0, 0, kWidth / 2 - 4, kHeight};
+  const Region right{kWidth / 2 + 4, 0, kWidth, kHeight};
+  const Image pointing_right = render_arm(arm_pose(skeleton_, Mat3::Identity(), Mat3::Identity()));
+  // Half a turn about +Y at the shoulder: the arm points along −X, the viewer's left.
+  const Image pointing_left =
+      render_arm(arm_pose(skeleton_, about_y(3.14159265f), Mat3::Identity()));
+  EXPECT_GT(foreground_in(pointing_right, right), 300);
+  EXPECT_EQ(foreground_in(pointing_right, left), 0);
+  EXPECT_GT(foreground_in(pointing_left, left), 300);
+  EXPECT_EQ(foreground_in(pointing_left, right), 0);
+}
+
+TEST_F(HeadlessRenderTest, BentElbowMovesTheForearmOnly) {
+  const Camera camera = front_camera();
+  // +90° about +Z at the elbow: the forearm points up.
+  const Image image = render_arm(arm_pose(skeleton_, Mat3::Identity(), about_z(1.5707963f)));
+  const Vec3 elbow = kShoulder + Vec3(kUpperArm, 0, 0);
+  EXPECT_TRUE(is_foreground(pixel_at(image, camera, kShoulder + Vec3(0.15f, 0, 0))));  // upper arm
+  EXPECT_TRUE(is_foreground(pixel_at(image, camera, elbow + Vec3(0, 0.15f, 0))));      // forearm
+  EXPECT_TRUE(is_foreground(pixel_at(image, camera, elbow + Vec3(0, 0.25f, 0))));
+  EXPECT_TRUE(is_background(pixel_at(image, camera, elbow + Vec3(0.2f, 0, 0))));  // where it was
+}
+
+TEST_F(HeadlessRenderTest, AllFourInfluenceSlotsAreSkinned) {
+  // The same arm with every vertex's influences stored in reverse slot order: a shader that read
+  // only some of the four slots would lose (or collapse) vertices.
+  SkinnedMesh reversed = arm_mesh(skeleton_);
+  for (std::size_t v = 0; v < reversed.joints.size(); ++v) {
+    std::reverse(reversed.joints[v].begin(), reversed.joints[v].end());
+    std::reverse(reversed.weights[v].begin(), reversed.weights[v].end());
+  }
+  const SkinnedMeshId reversed_id = renderer_->add_skinned_mesh(reversed);
+  const std::vector<Pose> bent = arm_pose(skeleton_, about_y(0.4f), about_z(1.2f));
+  const Image original = render_arm(bent);
+  const SkinnedMeshId original_id = arm_;
+  arm_ = reversed_id;
+  const Image swapped = render_arm(bent);
+  arm_ = original_id;
+  int different = 0;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      different += near(original.pixel(x, y), swapped.pixel(x, y), 3) ? 0 : 1;
+    }
+  }
+  EXPECT_GT(foreground_in(original, whole(original)), 300);
+  EXPECT_LE(different, 5);
+}
+
+TEST_F(HeadlessRenderTest, AvatarIsPlacedByItsModelPose) {
+  const Camera camera = front_camera();
+  const Pose T_world_model{Mat3::Identity(), Vec3(-0.9f, 0.3f, 0.0f)};
+  const Image image = render_arm(arm_pose(skeleton_, Mat3::Identity(), Mat3::Identity()),
+                                 bare_view(), T_world_model);
+  EXPECT_TRUE(is_foreground(
+      pixel_at(image, camera, T_world_model.translation + kShoulder + Vec3(0.3f, 0, 0))));
+  EXPECT_TRUE(is_background(pixel_at(image, camera, kShoulder + Vec3(0.3f, 0, 0))));
+}
+
+TEST_F(HeadlessRenderTest, TargetsAreDrawnInTheirColoursWherePlaced) {
+  TargetMap room;
+  room.objects = {
+      {1, "Jupiter", TargetKind::kSphere, Vec3(-0.9f, 1.2f, 0), Vec3::Constant(0.4f)},
+      {2, "Box", TargetKind::kBox, Vec3(0.9f, 0.9f, 0), Vec3::Constant(0.3f)},
+      {3, "TV", TargetKind::kScreen, Vec3(0.0f, 1.85f, -0.5f), Vec3(0.8f, 0.45f, 0.05f)}};
+  renderer_->set_targets(room);
+  SceneView view = bare_view();
+  view.show_targets = true;
+  view.show_labels = false;
+  renderer_->render(view, context_->target());
+  const Image image = read_pixels(context_->target());
+  const Camera& camera = view.camera;
+  for (const TargetObject& object : room.objects) {
+    SCOPED_TRACE(object.name);
+    const Rgb centre = pixel_at(image, camera, object.position);
+    EXPECT_TRUE(same_hue(centre, target_colour(object.id)))
+        << int{centre[0]} << " " << int{centre[1]} << " " << int{centre[2]};
+    // Just beside the object: background.
+    const Vec3 beside = object.position + Vec3(0.5f * object.size.x() + 0.08f, 0, 0);
+    EXPECT_TRUE(is_background(pixel_at(image, camera, beside)));
+  }
+  // Distinct colours: the sphere's pixel is not the box's hue.
+  EXPECT_FALSE(same_hue(pixel_at(image, camera, room.objects[0].position), target_colour(2)));
+}
+
+TEST_F(HeadlessRenderTest, LabelsAreDrawnAboveTheirObjects) {
+  RendererOptions options;
+  options.label_height = 0.25f;  // legible at 320 × 240 from 2.5 m
+  renderer_.emplace(options);
+  TargetMap room;
+  room.objects = {{1, "Jupiter", TargetKind::kSphere, Vec3(-0.5f, 1.0f, 0), Vec3::Constant(0.3f)}};
+  renderer_->set_targets(room);
+  SceneView view = bare_view();
+  view.show_targets = true;
+  const auto is_text = [&](const Rgb& p) { return near(p, to_rgb(options.label_text), 8); };
+
+  renderer_->render(view, context_->target());
+  const Image labelled = read_pixels(context_->target());
+  view.show_labels = false;
+  renderer_->render(view, context_->target());
+  const Image unlabelled = read_pixels(context_->target());
+
+  const Camera& camera = view.camera;
+  const Vec2 top = *project_to_pixel(camera, kWidth, kHeight, Vec3(-0.5f, 1.15f, 0));
+  const Vec2 centre = *project_to_pixel(camera, kWidth, kHeight, Vec3(-0.5f, 1.0f, 0));
+  const float pixels_per_metre = (centre.y() - top.y()) / 0.15f;
+  const int plate = static_cast<int>(options.label_height * pixels_per_metre);
+  const int gap = static_cast<int>(options.label_gap * pixels_per_metre);
+  const Region above{static_cast<int>(top.x()) - 3 * plate,
+                     static_cast<int>(top.y()) - gap - plate - 3,
+                     static_cast<int>(top.x()) + 3 * plate, static_cast<int>(top.y())};
+  EXPECT_GT(count_pixels(labelled, above, is_text), 40);
+  EXPECT_EQ(count_pixels(unlabelled, whole(unlabelled), is_text), 0);
+  // The text is nowhere but above its object.
+  EXPECT_EQ(count_pixels(labelled, whole(labelled), is_text),
+            count_pixels(labelled, above, is_text));
+}
+
+TEST_F(HeadlessRenderTest, FloorFillsTheLowerHalfOnly) {
+  SceneView view = bare_view();
+  view.show_floor = true;
+  renderer_->render(view, context_->target());
+  const Image image = read_pixels(context_->target());
+  const Region bottom{0, kHeight - 20, kWidth, kHeight};
+  const Region top{0, 0, kWidth, 20};
+  // Row 0 of the image is the top: the floor is below the (level) camera's horizon.
+  EXPECT_EQ(foreground_in(image, bottom), kWidth * 20);
+  EXPECT_EQ(foreground_in(image, top), 0);
+  const Rgb floor = image.pixel(kWidth / 2, kHeight - 1);
+  EXPECT_TRUE(near(floor, to_rgb(renderer_->options().floor_colour), 40) ||
+              near(floor, to_rgb(renderer_->options().grid_colour), 40));
+}
+
+TEST_F(HeadlessRenderTest, DebugLinesAreDrawn) {
+  const DebugLine ray{Vec3(-1.0f, 0.8f, 0), Vec3(1.0f, 0.8f, 0), Colour(1, 0, 1, 1)};
+  SceneView view = bare_view();
+  view.lines = {&ray, 1};
+  renderer_->render(view, context_->target());
+  const Image image = read_pixels(context_->target());
+  const Vec2 left = *project_to_pixel(view.camera, kWidth, kHeight, ray.from);
+  const Vec2 right = *project_to_pixel(view.camera, kWidth, kHeight, ray.to);
+  const int row = static_cast<int>(left.y());
+  const auto magenta = [](const Rgb& p) { return near(p, {255, 0, 255}, 4); };
+  const int on_line = count_pixels(image, {0, row - 1, kWidth, row + 2}, magenta);
+  EXPECT_GT(on_line, 0.9f * (right.x() - left.x()));
+  EXPECT_EQ(count_pixels(image, whole(image), magenta), on_line);
+}
+
+TEST_F(HeadlessRenderTest, WrongJointCountIsAnError) {
+  std::vector<Pose> pose = arm_pose(skeleton_, Mat3::Identity(), Mat3::Identity());
+  pose.pop_back();
+  const AvatarDraw avatar{arm_, Pose{}, pose};
+  SceneView view = bare_view();
+  view.avatars = {&avatar, 1};
+  try {
+    renderer_->render(view, context_->target());
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("2 joint poses, its mesh 3 joints"), std::string::npos)
+        << e.what();
+  }
+  const AvatarDraw unknown{SkinnedMeshId{7}, Pose{}, pose};
+  view.avatars = {&unknown, 1};
+  EXPECT_THROW(renderer_->render(view, context_->target()), Error);
+}
+
+TEST_F(HeadlessRenderTest, BadSkinnedMeshIsRejectedWithItsProblem) {
+  SkinnedMesh mesh = arm_mesh(skeleton_);
+  mesh.joints[5][0] = 9;
+  try {
+    renderer_->add_skinned_mesh(mesh);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("vertex 5 references joint 9, but the mesh has 3 joints"),
+              std::string::npos)
+        << e.what();
+  }
+  mesh = arm_mesh(skeleton_);
+  mesh.indices.back() = 100000;
+  EXPECT_THROW(renderer_->add_skinned_mesh(mesh), Error);
+  mesh = arm_mesh(skeleton_);
+  mesh.weights[0] = {0.5f, 0.2f, 0.0f, 0.0f};
+  EXPECT_THROW(renderer_->add_skinned_mesh(mesh), Error);
+}
+
+TEST(HeadlessContextTest, DescribesItsRendererAndRefusesBadSizes) {
+  HeadlessContext context(64, 32);
+  EXPECT_NE(context.description().find("EGL surfaceless"), std::string::npos);
+  EXPECT_NE(context.description().find("4.5"), std::string::npos) << context.description();
+  EXPECT_EQ(context.target().width, 64);
+  EXPECT_EQ(context.target().height, 32);
+  EXPECT_THROW(OffscreenTarget(0, 10), Error);
+}
+
+TEST(HeadlessContextTest, ContextsLiveSideBySide) {
+  auto first = std::make_unique<HeadlessContext>(32, 32);
+  HeadlessContext second(48, 16);  // current from here on
+  const auto render_sky = [](HeadlessContext& context) {
+    Renderer renderer;
+    SceneView view;
+    view.camera = testing::front_camera();
+    renderer.render(view, context.target());
+    check_gl("render");
+    const Image image = read_pixels(context.target());
+    return testing::near(image.pixel(0, 0), testing::to_rgb(renderer.options().background), 2);
+  };
+  EXPECT_TRUE(render_sky(second));
+  first->make_current();
+  EXPECT_TRUE(render_sky(*first));
+  first.reset();  // ends only its own EGL context, not the display the second one uses
+  second.make_current();
+  EXPECT_TRUE(render_sky(second));
+}
+
+}  // namespace
+}  // namespace deixis::render
