@@ -1,5 +1,5 @@
 // The IK jobs one by one, and the whole avatar's solve, on the procedural 1.70 m test rig
-// (tests/ik/test_rig.h: 47 joints with legs, clavicles, thumbs, middle fingers and three-joint
+// (tests/ik/test_rig.h: 32 joints with legs, clavicles, thumbs, middle fingers and three-joint
 // index fingers), one thread. Goal (issue 6): full solve ≤ 10 µs; the paper's IK took 1.5 ms.
 //
 // Targets cycle through 64 prepared ticks so that branch predictors and caches see varied input.

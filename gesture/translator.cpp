@@ -62,10 +62,17 @@ TranslationInput Translator::input_for(const TrackingFrame& frame, const LocalTa
   TranslationInput in;
   in.user_features = mpnet_features(frame, config_.user);
   in.user_x = end_effectors(frame, config_.user);
+  // UGNet's hand positions are in the user's size and scaled to the avatar's afterwards (k =
+  // 1/scale in the blend), so the avatar's targets go in at the user's size too: their offsets
+  // from O times scale. Angles do not change; the touch distance r does, and with it where a
+  // touch lands on an avatar of another size (docs/decisions.md §32).
+  const Pose& O = config_.T_world_avatar_root;
+  const auto at_user_size = [&](const Vec3& p) {
+    return Vec3(O.translation + loop_.scale() * (p - O.translation));
+  };
   in.avatar_target = target_feature_from_root(
-      config_.T_world_avatar_root,
-      avatar_target_position(frame.head_target, frame.head_target_position, room),
-      avatar_target_position(frame.hand_target, frame.hand_target_position, room));
+      O, at_user_size(avatar_target_position(frame.head_target, frame.head_target_position, room)),
+      at_user_size(avatar_target_position(frame.hand_target, frame.hand_target_position, room)));
   return in;
 }
 
@@ -88,8 +95,11 @@ AvatarFrame Translator::tick(const TrackingFrame* frame, const LocalTargets& roo
     last_valid_ = *frame;
     const Hand other_hand = other(config_.user.deictic_hand);
     if ((frame->valid & tracked::hand(other_hand)) != 0) {
-      last_other_wrist_in_head_ =
-          compose(inverse(frame->T_world_head), frame->T_world_wrist[index(other_hand)]);
+      const Mat3 R_root_world = config_.user.T_world_root.rotation.transpose();
+      const Pose& wrist = frame->T_world_wrist[index(other_hand)];
+      last_other_wrist_from_head_ = {
+          R_root_world * wrist.rotation,
+          R_root_world * (wrist.translation - frame->T_world_head.translation)};
     }
   } else {
     if (frame != nullptr) {
@@ -123,8 +133,9 @@ AvatarFrame Translator::tick(const TrackingFrame* frame, const LocalTargets& roo
 
   out.ready = true;
   out.deictic = decode_end_effectors(step.avatar_x, config_.T_world_avatar_root);
-  out.other_wrist_in_head = last_other_wrist_in_head_;
-  out.other_wrist_in_head.translation /= loop_.scale();
+  out.other_wrist_from_head = last_other_wrist_from_head_;
+  out.other_wrist_from_head.translation /= loop_.scale();
+  out.hand_target = last_valid_.hand_target;
   out.progression = step.progression;
   out.head_weight = step.head_weight;
   out.hand_weight = step.hand_weight;

@@ -39,9 +39,11 @@ struct AvatarFrame {
   bool held = false;   // this tick reused the last valid frame (missed tracking)
   Hand deictic_hand = Hand::kRight;
   EndEffectorPoses deictic;  // head, gaze, deictic wrist and index fingertip, this room's world
-  // The non-deictic wrist in the head frame, positions scaled to the avatar's size: IK keeps its
-  // azimuth, elevation and distance from the head (DESIGN §6).
-  Pose other_wrist_in_head;
+  // The non-deictic wrist relative to the head H, in the user's root frame (yaw-only, so the hand
+  // moves with the body and not with the head's turns), its offset scaled to the avatar's size:
+  // IK keeps its azimuth, elevation and distance from H (DESIGN §6).
+  Pose other_wrist_from_head;
+  TargetId hand_target = kNoTarget;  // what the person's hand designates (held with the frame)
   nn::Progression progression{};
   float head_weight = 0.0f;
   float hand_weight = 0.0f;
@@ -76,7 +78,7 @@ class Translator {
   TranslationLoop loop_;
   bool started_ = false;
   TrackingFrame last_valid_;
-  Pose last_other_wrist_in_head_;  // the non-deictic hand may be lost on its own
+  Pose last_other_wrist_from_head_;  // the non-deictic hand may be lost on its own
   TranslatorStats stats_;
   std::mt19937 rng_;
   std::array<float, nn::kDiffusionNoiseSize> noise_{};

@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 bool all_finite(const AvatarFrame& a) {
   return a.deictic.gaze.allFinite() && is_finite(a.deictic.T_world_head) &&
          is_finite(a.deictic.T_world_wrist) && a.deictic.index_tip.allFinite() &&
-         is_finite(a.other_wrist_in_head);
+         is_finite(a.other_wrist_from_head);
 }
 
 class TranslatorTest : public ::testing::Test {
@@ -111,13 +111,27 @@ TEST_F(TranslatorTest, MissedTrackingHoldsTheLastValidFrameAndIsCounted) {
 
 TEST_F(TranslatorTest, TheNonDeicticHandSurvivesItsOwnLoss) {
   translator.tick(&person.frame, targets);
-  const Pose before = translator.tick(&person.frame, targets).other_wrist_in_head;
+  const Pose before = translator.tick(&person.frame, targets).other_wrist_from_head;
   TrackingFrame left_lost = person.frame;
   left_lost.valid &= static_cast<std::uint8_t>(~tracked::kLeftHand);
   left_lost.T_world_wrist[index(Hand::kLeft)].translation = Vec3(9, 9, 9);  // garbage
   const AvatarFrame a = translator.tick(&left_lost, targets);
   EXPECT_FALSE(a.held);  // the deictic side is fine
-  EXPECT_TRUE(a.other_wrist_in_head.translation.isApprox(before.translation, 1e-6f));
+  EXPECT_TRUE(a.other_wrist_from_head.translation.isApprox(before.translation, 1e-6f));
+}
+
+TEST_F(TranslatorTest, TheNonDeicticHandIsRelativeToTheBodyNotTheHeadsTurn) {
+  const Pose still = translator.tick(&person.frame, targets).other_wrist_from_head;
+  TrackingFrame turned = person.frame;
+  turned.T_world_head.rotation = turned.T_world_head.rotation * yaw_rotation(0.5f);
+  const Pose after = translator.tick(&turned, targets).other_wrist_from_head;
+  EXPECT_TRUE(after.translation.isApprox(still.translation, 1e-5f));
+  EXPECT_TRUE(after.rotation.isApprox(still.rotation, 1e-5f));
+  // Scaled to the avatar: the user (1.70 m) is taller than the avatar (1.65 m).
+  const Pose& wrist = person.frame.T_world_wrist[index(Hand::kLeft)];
+  const Vec3 offset = config().user.T_world_root.rotation.transpose() *
+                      (wrist.translation - person.frame.T_world_head.translation);
+  EXPECT_TRUE(still.translation.isApprox(offset * (1.65f / 1.70f), 1e-5f));
 }
 
 TEST_F(TranslatorTest, AnObjectThisRoomLacksIsCopiedAndCounted) {
@@ -141,7 +155,7 @@ TEST_F(TranslatorTest, TheAvatarStandsAtItsOwnRoot) {
   }
   const Vec3 avatar_root = config().T_world_avatar_root.translation;
   EXPECT_LT((a.deictic.T_world_head.translation - avatar_root).norm(), 0.15f);
-  EXPECT_LT(a.other_wrist_in_head.translation.y(), -0.5f);
+  EXPECT_LT(a.other_wrist_from_head.translation.y(), -0.5f);
 }
 
 }  // namespace

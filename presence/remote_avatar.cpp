@@ -1,0 +1,83 @@
+#include "presence/remote_avatar.h"
+
+#include <utility>
+
+#include "ik/other_arm_job.h"
+#include "presence/touch_contact.h"
+
+namespace deixis::presence {
+namespace {
+
+TranslatorConfig translator_config(const ik::AvatarSolver& solver,
+                                   const RemoteAvatarConfig& config) {
+  TranslatorConfig t;
+  t.user = config.user;
+  t.T_world_avatar_root = avatar_origin(solver, config.T_world_floor);
+  t.avatar_height = solver.rig.height;
+  t.noise_seed = config.noise_seed;
+  return t;
+}
+
+}  // namespace
+
+Pose avatar_origin(const ik::AvatarSolver& solver, const Pose& T_world_floor) {
+  // The rig's model frame stands on the floor (y = 0 at the soles), so H's rest height above the
+  // floor is its model y; O keeps only the placement's yaw (paper §IV.A).
+  const Vec3 h = solver.eye_midpoint_rest;
+  return compose(T_world_floor, Pose{Mat3::Identity(), Vec3(h.x(), h.y(), h.z())});
+}
+
+RemoteAvatar::RemoteAvatar(nn::Mpnet mpnet, nn::Ugnet ugnet, const ik::AvatarSolver& solver,
+                           const RemoteAvatarConfig& config)
+    : solver_(&solver),
+      translator_(std::move(mpnet), std::move(ugnet), translator_config(solver, config)),
+      T_world_model_(
+          ik::T_world_root_from_origin(solver, translator_.config().T_world_avatar_root)),
+      touch_contact_(config.touch_contact),
+      local_(solver.rig.skeleton.rest_local),
+      model_(solver.rest_model) {}
+
+bool RemoteAvatar::tick(const TrackingFrame* frame, const LocalTargets& room) {
+  frame_ = translator_.tick(frame, room);
+  if (!frame_.ready) {
+    return false;
+  }
+  targets_.deictic_hand = frame_.deictic_hand;
+  targets_.deictic = frame_.deictic;
+  if (touch_contact_) {
+    const TargetObject* object = room.map != nullptr ? room.map->find(frame_.hand_target) : nullptr;
+    const Vec3 offset = touch_contact_offset(
+        frame_.deictic.index_tip, object, frame_.progression[1], frame_.hand_weight,
+        TouchContactConfig{}.radius * solver_->rig.height / 1.70f);
+    targets_.deictic.index_tip += offset;
+    targets_.deictic.T_world_wrist.translation += offset;
+  }
+  targets_.other = ik::other_hand_target(frame_.other_wrist_from_head);
+
+  ik::AvatarSolveJob job;
+  job.solver = solver_;
+  job.T_world_root = T_world_model_;
+  job.targets = &targets_;
+  job.local = local_;
+  job.model = model_;
+  job.report = &report_;
+  // The job only refuses inputs the translator never produces (it guarantees finite poses); if
+  // it ever did, the avatar would keep last tick's pose rather than show garbage.
+  job.run();
+  return true;
+}
+
+Vec3 RemoteAvatar::eye_midpoint() const {
+  const int head = solver_->rig[ik::Bone::kHead];
+  const Pose T_world_head = compose(T_world_model_, model_[static_cast<std::size_t>(head)]);
+  return T_world_head.rotation * solver_->rig.eye_midpoint_in_head + T_world_head.translation;
+}
+
+Vec3 RemoteAvatar::index_fingertip() const {
+  const ik::ArmRig& arm = solver_->arms[index(frame_.deictic_hand)];
+  const Pose T_world_tip =
+      compose(T_world_model_, model_[static_cast<std::size_t>(arm.tip_joint())]);
+  return T_world_tip.rotation * arm.tip_offset + T_world_tip.translation;
+}
+
+}  // namespace deixis::presence

@@ -1,0 +1,74 @@
+#pragma once
+// The remote person's avatar in this room, one tick at a time (issue 6): their tracking frame and
+// this room's targets go through the translator (features → MPNet → blend → UGNet → decode) and
+// the whole-avatar IK, and come out as the model poses of a skinned humanoid standing where this
+// site put it.
+//
+//   TrackingFrame ──Translator──▶ AvatarFrame (end-effectors, world) ──AvatarSolveJob──▶ poses
+//
+// With touch contact on, a touch that UGNet brings within a few centimetres of the object ends on
+// its surface (touch_contact.h).
+//
+// The avatar's root O (paper §IV.A: the eye midpoint H of its upright posture, yaw-only) is placed
+// from where it stands on this room's floor and the rig's own eye height, and its size (for the
+// translator's scaling) is the rig's height. Everything a tick needs is sized at construction;
+// tick() allocates nothing.
+
+#include <span>
+#include <vector>
+
+#include "gesture/translator.h"
+#include "ik/avatar_solver.h"
+
+namespace deixis::presence {
+
+struct RemoteAvatarConfig {
+  BodyCalibration user;          // the remote person, in their room (from their hello)
+  Pose T_world_floor;            // where the avatar stands in this room: a floor point, yaw only
+  std::uint32_t noise_seed = 1;  // for a diffusion UGNet
+  bool touch_contact = true;     // finish touches on the object's surface (touch_contact.h)
+};
+
+// Where the avatar's root O goes for a floor placement: H of the rig's rest pose straight above
+// the floor point, with the placement's yaw.
+Pose avatar_origin(const ik::AvatarSolver& solver, const Pose& T_world_floor);
+
+class RemoteAvatar {
+ public:
+  // `solver` must outlive the RemoteAvatar (one solver serves every avatar wearing its rig).
+  RemoteAvatar(nn::Mpnet mpnet, nn::Ugnet ugnet, const ik::AvatarSolver& solver,
+               const RemoteAvatarConfig& config);
+
+  // One 30 Hz tick. `frame` is null when no frame arrived in time. Returns false while the avatar
+  // is hidden (no valid frame yet); the poses then keep the rest pose.
+  bool tick(const TrackingFrame* frame, const LocalTargets& room);
+
+  bool visible() const { return frame_.ready; }
+  const AvatarFrame& frame() const { return frame_; }  // the translator's output this tick
+  const ik::AvatarSolveReport& report() const { return report_; }
+  const TranslatorStats& stats() const { return translator_.stats(); }
+
+  // T_model_joint and T_parent_joint of every joint of the rig, and where the model frame is.
+  std::span<const Pose> model_pose() const { return model_; }
+  std::span<const Pose> local_pose() const { return local_; }
+  const Pose& T_world_model() const { return T_world_model_; }
+  const ik::AvatarSolver& solver() const { return *solver_; }
+
+  // World positions of the avatar's eye midpoint H and deictic index fingertip after IK (what
+  // an observer in this room sees; the end-to-end checks measure these).
+  Vec3 eye_midpoint() const;
+  Vec3 index_fingertip() const;
+
+ private:
+  const ik::AvatarSolver* solver_;
+  Translator translator_;
+  Pose T_world_model_;
+  bool touch_contact_;
+  AvatarFrame frame_;
+  ik::AvatarTargets targets_;
+  ik::AvatarSolveReport report_;
+  std::vector<Pose> local_;
+  std::vector<Pose> model_;
+};
+
+}  // namespace deixis::presence
