@@ -285,6 +285,8 @@ bool AvatarSolveJob::run() const {
   arm.soften = s.config.soften;
   arm.wrist_rotation = T_root_world.rotation * ee.T_world_wrist.rotation;
   arm.fingertip = brought_in(transform_point(T_root_world, ee.index_tip));
+  // Beyond reach, keep the ray from the avatar's own eyes (after the lean) through the fingertip.
+  arm.sight_origin = transform_point(model[head], s.rig.eye_midpoint_in_head);
   arm.local = local;
   arm.model = model;
   arm.result = &out.deictic;

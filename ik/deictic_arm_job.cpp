@@ -62,6 +62,26 @@ Placement place_wrist(const Vec3& S, const Vec3& t, const Mat3& R, const Vec3& c
   return {W, rotation_between(c_dir, normalized_or(t - W, c_dir)) * R, false};
 }
 
+// A fingertip target beyond `tip_reach` from shoulder S, brought in along the ray from the eyes E
+// through it to the farthest point the fingertip reaches (the ray–sphere intersection), so the
+// eye–fingertip ray is unchanged. Targets within reach, and eyes outside the sphere (no such
+// point in front of them), are left as they are.
+Vec3 along_sight(const Vec3& S, const Vec3& E, const Vec3& t, float tip_reach) {
+  if (!E.allFinite() || (t - S).norm() <= tip_reach || (E - S).norm() >= tip_reach) {
+    return t;
+  }
+  const Vec3 u = normalized_or(t - E, Vec3::Zero());
+  if (u.isZero()) {
+    return t;
+  }
+  // |E + s·u − S| = tip_reach, s > 0: s² + 2·s·(u·m) + |m|² − R² = 0 with m = E − S.
+  const Vec3 m = E - S;
+  const float b = u.dot(m);
+  const float c = m.squaredNorm() - tip_reach * tip_reach;  // < 0: E is inside the sphere
+  const float s = -b + std::sqrt(std::max(0.0f, b * b - c));
+  return E + s * u;
+}
+
 }  // namespace
 
 bool DeicticArmJob::validate(std::string_view* reason) const {
@@ -135,52 +155,65 @@ bool DeicticArmJob::run() const {
   Mat3 wanted = wrist_rotation.allFinite()
                     ? Mat3(orthonormalized(wrist_rotation) * a.R_hand_wrist.transpose())
                     : hand0.rotation;
-  for (int round = 0; round < kPlacementRounds; ++round) {
-    for (std::size_t k = 0; k < joints.size(); ++k) {
-      local[joints[k]].rotation = input[k];
-    }
-    update_model_path(*skeleton, local, model, a.upper, a.hand);
-    const Placement place = place_wrist(S, fingertip, wanted, c, reach, soft_start, rest_direction);
-    out.beyond_reach = place.beyond_reach;
+  const Mat3 wanted_input = wanted;
+  // Places wrist and hand for a fingertip target, in rounds (the wrist's limits may change the
+  // orientation the placement assumed). Every round starts from the input pose.
+  const auto place_for = [&](const Vec3& target) {
+    wanted = wanted_input;
+    for (int round = 0; round < kPlacementRounds; ++round) {
+      for (std::size_t k = 0; k < joints.size(); ++k) {
+        local[joints[k]].rotation = input[k];
+      }
+      update_model_path(*skeleton, local, model, a.upper, a.hand);
+      const Placement place = place_wrist(S, target, wanted, c, reach, soft_start, rest_direction);
+      out.beyond_reach = place.beyond_reach;
 
-    Mat3 start_correction;
-    Mat3 mid_correction;
-    TwoBoneJob two_bone;
-    two_bone.start_joint = &model[a.upper];
-    two_bone.mid_joint = &model[a.lower];
-    two_bone.end_joint = &model[a.hand];
-    two_bone.target = place.wrist;
-    two_bone.pole_vector = pole_m;
-    two_bone.mid_axis = a.mid_axis;
-    two_bone.flexion = limits->elbow;
-    two_bone.start_correction = &start_correction;
-    two_bone.mid_correction = &mid_correction;
-    two_bone.run();
-    local[a.upper].rotation = local[a.upper].rotation * start_correction;
-    local[a.lower].rotation = local[a.lower].rotation * mid_correction;
-    update_model_path(*skeleton, local, model, a.upper, a.hand);
+      Mat3 start_correction;
+      Mat3 mid_correction;
+      TwoBoneJob two_bone;
+      two_bone.start_joint = &model[a.upper];
+      two_bone.mid_joint = &model[a.lower];
+      two_bone.end_joint = &model[a.hand];
+      two_bone.target = place.wrist;
+      two_bone.pole_vector = pole_m;
+      two_bone.mid_axis = a.mid_axis;
+      two_bone.flexion = limits->elbow;
+      two_bone.start_correction = &start_correction;
+      two_bone.mid_correction = &mid_correction;
+      two_bone.run();
+      local[a.upper].rotation = local[a.upper].rotation * start_correction;
+      local[a.lower].rotation = local[a.lower].rotation * mid_correction;
+      update_model_path(*skeleton, local, model, a.upper, a.hand);
 
-    WristJob wrist;
-    wrist.skeleton = skeleton;
-    wrist.forearm = a.lower;
-    wrist.hand = a.hand;
-    wrist.forearm_axis = a.forearm_axis;
-    wrist.twist = a.forearm_twist;
-    wrist.swing_max = limits->wrist_swing;
-    wrist.hand_twist_max = limits->wrist_twist;
-    wrist.target = place.hand;
-    wrist.local = local;
-    wrist.model = model;
-    wrist.run();
-    const Mat3& achieved = model[a.hand].rotation;
-    if (rotation_angle(achieved * place.hand.transpose()) < 1e-4f) {
-      break;
+      WristJob wrist;
+      wrist.skeleton = skeleton;
+      wrist.forearm = a.lower;
+      wrist.hand = a.hand;
+      wrist.forearm_axis = a.forearm_axis;
+      wrist.twist = a.forearm_twist;
+      wrist.swing_max = limits->wrist_swing;
+      wrist.hand_twist_max = limits->wrist_twist;
+      wrist.target = place.hand;
+      wrist.local = local;
+      wrist.model = model;
+      wrist.run();
+      const Mat3& achieved = model[a.hand].rotation;
+      if (rotation_angle(achieved * place.hand.transpose()) < 1e-4f) {
+        break;
+      }
+      wanted = achieved;  // place the wrist again for the orientation the limits allow
     }
-    wanted = achieved;  // place the wrist again for the orientation the limits allow
+  };
+  // The index finger bends the rest of the way to the fingertip target.
+  std::array<Mat3, 3> index_input{};
+  for (int k = 0; k < a.index_count; ++k) {
+    index_input[static_cast<std::size_t>(k)] = local[a.index[static_cast<std::size_t>(k)]].rotation;
   }
-  update_model_path(*skeleton, local, model, a.hand, tip_joint);
-
-  if (a.index_count > 0) {
+  const auto bend_finger = [&](const Vec3& target) {
+    update_model_path(*skeleton, local, model, a.hand, tip_joint);
+    if (a.index_count == 0) {
+      return;
+    }
     IndexFingerJob finger;
     finger.skeleton = skeleton;
     finger.chain = std::span<const int>(a.index.data(), static_cast<std::size_t>(a.index_count));
@@ -189,10 +222,27 @@ bool DeicticArmJob::run() const {
     finger.flexion =
         std::span<const HingeRange>(limits->index.data(), static_cast<std::size_t>(a.index_count));
     finger.tip_offset = a.tip_offset;
-    finger.target = fingertip;
+    finger.target = target;
     finger.local = local;
     finger.model = model;
     finger.run();
+  };
+  place_for(fingertip);
+  bend_finger(fingertip);
+  // Beyond reach, pointing keeps the eye–fingertip ray (with sight_origin): place again for the
+  // point of the sight ray the fingertip reaches with the hand in line (the softened wrist reach
+  // plus the hand), from the input pose.
+  if (out.beyond_reach && (tip_now() - fingertip).norm() >= 1e-3f) {
+    const Vec3 target = along_sight(S, sight_origin, fingertip, soft_start + c.norm());
+    if (target != fingertip) {
+      for (int k = 0; k < a.index_count; ++k) {
+        local[a.index[static_cast<std::size_t>(k)]].rotation =
+            index_input[static_cast<std::size_t>(k)];
+      }
+      place_for(target);
+      bend_finger(target);
+      out.beyond_reach = true;
+    }
   }
   out.tip_error = (tip_now() - fingertip).norm();
   out.reached = out.tip_error < 1e-3f;

@@ -14,6 +14,7 @@
 // to still land, with the wrist on the sphere the arm reaches; beyond even that, the whole arm
 // points along the ray from the shoulder to the target.
 
+#include <limits>
 #include <span>
 #include <string_view>
 
@@ -25,7 +26,7 @@ namespace deixis::ik {
 struct DeicticArmResult {
   bool reached = false;       // the fingertip is within 1 mm of the target
   bool beyond_reach = false;  // the target is out of the arm's reach: the arm points along
-                              // the shoulder→target ray
+                              // the sight ray (with sight_origin) or the shoulder→target ray
   float tip_error = 0.0f;     // m, fingertip to target (0 when the target was not finite)
 };
 
@@ -41,6 +42,11 @@ struct DeicticArmJob {
   float soften = 0.97f;                    // (0, 1]; see TwoBoneJob
   Mat3 wrist_rotation = Mat3::Identity();  // wanted R_model_wrist, tracker wrist convention
   Vec3 fingertip = Vec3::Zero();           // target, model space
+  // The eye midpoint H, model space (optional; non-finite: unused). A fingertip target beyond
+  // the arm's reach is then brought in along the ray from H through it, so the eye–fingertip
+  // ray, which is what makes a pointing gesture point (paper §III.A), is kept; without it the
+  // arm points along the shoulder→target ray.
+  Vec3 sight_origin = Vec3::Constant(std::numeric_limits<float>::quiet_NaN());
 
   // ---- in/out ----
   std::span<Pose> local;  // the arm's joints (upper arm to index tip) are rewritten

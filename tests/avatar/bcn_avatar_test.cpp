@@ -6,11 +6,11 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 
 #include "avatar/avatar_loader.h"
 #include "avatar_test_support.h"
+#include "bcn_rig.h"
 #include "gesture/tracking.h"
 #include "test_support.h"
 
@@ -19,27 +19,7 @@ namespace {
 
 using ik::Bone;
 
-constexpr const char* kBcnSource = "/usr/share/assimp/models/X/BCN_Epileptic.X";
-
-// Converts the .X file once per test program; the scratch directory lives until exit.
-const std::filesystem::path& bcn_glb() {
-  static deixis::testing::ScratchDir dir;
-  static const std::filesystem::path glb = [] {
-    const std::filesystem::path out = dir.path() / "bcn.glb";
-    if (!std::filesystem::exists(kBcnSource)) {
-      ADD_FAILURE() << kBcnSource << " is missing: install assimp-testmodels (tools/install-deps)";
-      return out;
-    }
-    const std::string command = std::string("assimp export ") + kBcnSource + " " + out.string() +
-                                " -fglb2 > " + (dir.path() / "assimp.log").string() + " 2>&1";
-    if (std::system(command.c_str()) != 0) {
-      ADD_FAILURE() << "`" << command
-                    << "` failed: is assimp-utils installed (tools/install-deps)?";
-    }
-    return out;
-  }();
-  return glb;
-}
+using deixis::testing::bcn_glb;
 
 TEST(BcnAvatar, LoadsThroughTheBcnNameTable) {
   const Avatar a = load_avatar(bcn_glb());

@@ -350,17 +350,23 @@ TEST(AvatarSolver, RigsWithoutOptionalBonesStillSolve) {
   }
 }
 
-TEST(AvatarSolver, SmallerAvatarsPointAlongTheRayBeyondTheirReach) {
+TEST(AvatarSolver, SmallerAvatarsPointAlongTheEyeRayBeyondTheirReach) {
+  // Pointing is the ray from the eyes through the fingertip (paper §III.A): a target beyond the
+  // arm's reach puts the fingertip on the avatar's own eye→target ray, the arm stretched.
   Avatar a(TestRigOptions{.height = 1.36f});  // 20 % smaller
   std::mt19937 rng(47);
   for (int i = 0; i < 200; ++i) {
     Scene scene = reachable_scene(a, rng, Hand::kRight);
     const Vec3 S = a.world(scene.root, a[Bone::kRightUpperArm]).translation;
     const Vec3 dir = scene.root.rotation * Vec3(0.5f, 0.2f, -1).normalized();
-    scene.targets.deictic.index_tip = S + 2.5f * dir;
+    const Vec3 target = S + 2.5f * dir;
+    scene.targets.deictic.index_tip = target;
     ASSERT_TRUE(a.solve(scene.root, scene.targets));
     EXPECT_TRUE(a.report.deictic.beyond_reach);
-    EXPECT_LT(angle_between(a.tip(scene.root, Hand::kRight) - S, dir), deg(1));
+    const Vec3 eyes =
+        transform_point(a.world(scene.root, a[Bone::kHead]), a.solver.rig.eye_midpoint_in_head);
+    EXPECT_LT(angle_between(a.tip(scene.root, Hand::kRight) - eyes, target - eyes), deg(0.5f));
+    EXPECT_LT(angle_between(a.tip(scene.root, Hand::kRight) - S, dir), deg(25));
   }
 }
 

@@ -168,6 +168,33 @@ TEST(DeicticArmJob, BeyondReachTheArmPointsAlongTheRay) {
   }
 }
 
+TEST(DeicticArmJob, BeyondReachWithEyesTheFingertipStaysOnTheEyeRay) {
+  // Pointing is the ray from the eyes through the fingertip: with sight_origin, a target beyond
+  // reach brings the fingertip onto that ray (not the shoulder's), as far out as the arm goes.
+  std::mt19937 rng(29);
+  for (const Hand hand : {Hand::kRight, Hand::kLeft}) {
+    ArmSetup s(hand, true);
+    const int head = s.rig.solver.rig[Bone::kHead];
+    for (int i = 0; i < 300; ++i) {
+      s.rig.reset();
+      const Vec3 eyes = transform_point(s.rig.model[head], s.rig.solver.rig.eye_midpoint_in_head);
+      Vec3 dir = testing::random_unit(rng);
+      dir.z() = -std::abs(dir.z()) - 0.3f;  // in front of the body, where people point
+      dir.normalize();
+      const Vec3 target = eyes + (1.5f + 3.0f * std::abs(dir.x())) * dir;
+      DeicticArmJob job = s.job(testing::random_rotation(rng), target);
+      job.sight_origin = eyes;
+      ASSERT_TRUE(job.run());
+      EXPECT_TRUE(s.result.beyond_reach);
+      EXPECT_LT(angle_between(s.tip() - eyes, target - eyes), deg(0.5f)) << "off the eye ray";
+      // As far out as it goes: the fingertip is beyond the shoulder's reach minus a few cm.
+      const float a = (s.rig.model[s.arm.lower].translation - s.shoulder()).norm();
+      EXPECT_GT((s.tip() - s.shoulder()).norm(), 0.9f * a);
+      ASSERT_EQ(testing::check_limits(s.rig.solver, s.rig.local, s.rig.model), "");
+    }
+  }
+}
+
 TEST(DeicticArmJob, ElbowOnThePolesSide) {
   std::mt19937 rng(29);
   ArmSetup s(Hand::kRight, false);

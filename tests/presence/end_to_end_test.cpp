@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "avatar/avatar_loader.h"
+#include "avatar/bcn_rig.h"  // tests/avatar
 #include "avatar/default_avatar.h"
 #include "capture/script.h"
 #include "capture/subject.h"
@@ -115,6 +116,7 @@ void measure(const eval::DeicticChain& chain, const Pose& T_world_root, const Ta
 
 struct Outcome {
   Errors ours, network_only, copied;  // network_only: without touch contact (touch_contact.h)
+  Errors before_ik;                   // the translator's end-effectors, before IK
   int completions = 0;
 };
 
@@ -177,6 +179,9 @@ class EndToEnd : public ::testing::Test {
                 *object, touching, outcome.ours);
         measure(chain_in(T_b_origin, network_only.eye_midpoint(), network_only.index_fingertip()),
                 T_b_origin, *object, touching, outcome.network_only);
+        const EndEffectorPoses& ee = network_only.frame().deictic;
+        measure(chain_in(T_b_origin, ee.T_world_head.translation, ee.index_tip), T_b_origin,
+                *object, touching, outcome.before_ik);
         // Copy-paste: the user's eye midpoint and fingertip relative to their own root, scaled
         // to the avatar's size, seen from the avatar's root in room B.
         const TrackingFrame& f = s.frames[i];
@@ -203,6 +208,7 @@ class EndToEnd : public ::testing::Test {
     std::printf("%s, %d completions:\n", what, o.completions);
     line("Deixis (networks, IK, contact)", o.ours);
     line("Deixis without touch contact", o.network_only);
+    line("  (its end-effectors before IK)", o.before_ik);
     line("copy-paste", o.copied);
   }
 
@@ -257,6 +263,17 @@ TEST_F(EndToEnd, AnAvatarTwentyPercentSmallerThanTheUserStillPointsAndTouches) {
   expect_pointing(pointing);
   const Outcome touching = run("161", capture::Category::kTouchingSingle, 6, small);
   report("161 touching, avatar 20% smaller", touching);
+  expect_touching(touching);
+}
+
+TEST_F(EndToEnd, AThirdPartyRigPointsAndTouchesToo) {
+  // BCN_Epileptic (assimp-testmodels): another skeleton, other proportions, other bone names.
+  const ik::AvatarSolver bcn = ik::AvatarSolver::build(avatar::load_avatar(testing::bcn_glb()).rig);
+  const Outcome pointing = run("180", capture::Category::kPointingSingle, 6, bcn);
+  report("180 pointing, BCN_Epileptic avatar", pointing);
+  expect_pointing(pointing);
+  const Outcome touching = run("180", capture::Category::kTouchingSingle, 6, bcn);
+  report("180 touching, BCN_Epileptic avatar", touching);
   expect_touching(touching);
 }
 
