@@ -69,4 +69,37 @@ struct CaptureJudgeOptions {
 };
 int run_capture_judge(const CaptureJudgeOptions& options);
 
+// `deixis host` and `deixis join`: one site (docs/demo.md). The site's virtual user performs its
+// script; tracking goes to the other site and the other's avatar is translated into this room
+// and rendered headlessly. Exit 0 after the run, 1 when the session fails (refused, nobody came),
+// 2 for bad files.
+struct SiteRunOptions {
+  bool host = true;
+  std::filesystem::path site;
+  std::string address = "0.0.0.0";  // host: where to listen; join: the host
+  std::uint16_t port = 7350;        // host: 0 picks a free one (printed as "port N")
+  std::string passphrase;
+  double seconds = 0.0;  // 0: as long as the virtual user's script
+  double wait = 30.0;    // s to wait for the other site
+  std::filesystem::path out_dir;
+  std::filesystem::path weights_dir;  // holds right/ and left/ with the MoE weights
+  int view_width = 640;
+  int view_height = 360;
+  bool video = true;
+};
+int run_site(const SiteRunOptions& options);
+
+// `deixis demo`: a host (site A) and a joiner (site B) as two real processes on loopback, then
+// the side-by-side video, a contact sheet and summary.json in `out_dir`.
+struct DemoOptions {
+  std::filesystem::path out_dir = "out/demo";
+  std::filesystem::path site_a;
+  std::filesystem::path site_b;
+  std::filesystem::path weights_dir;
+  double seconds = 0.0;  // 0: as long as the longer script
+  double timeout = 120.0;
+  std::string passphrase;
+};
+int run_demo(const DemoOptions& options);
+
 }  // namespace deixis::app

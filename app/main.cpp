@@ -3,6 +3,8 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdlib>
+#include <filesystem>
+#include <string>
 
 #include "app/commands.h"
 
@@ -13,6 +15,71 @@ std::filesystem::path default_reference_dir() {
     return env;
   }
   return "../shared/reference";
+}
+
+// The authors' MoE weights (right/ and left/): the project's own once it ships them in
+// assets/weights/, else $DEIXIS_REFERENCE_DIR/weights, else ../shared/reference/weights next to
+// the repository.
+std::filesystem::path default_weights_dir() {
+  const std::filesystem::path source = DEIXIS_SOURCE_DIR;
+  if (std::filesystem::exists(source / "assets/weights/right/MPNet(MoE)(AC)80.safetensors")) {
+    return source / "assets/weights";
+  }
+  if (const char* env = std::getenv("DEIXIS_REFERENCE_DIR")) {
+    return std::filesystem::path(env) / "weights";
+  }
+  return (source / "../shared/reference/weights").lexically_normal();
+}
+
+// "host:port" for --connect; CLI11 reports the flag when this throws.
+std::string parse_endpoint(const std::string& text, deixis::app::SiteRunOptions& o) {
+  const std::size_t colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == text.size()) {
+    return "expected HOST:PORT, e.g. 127.0.0.1:7350";
+  }
+  try {
+    std::size_t used = 0;
+    const int port = std::stoi(text.substr(colon + 1), &used);
+    if (used != text.size() - colon - 1 || port < 1 || port > 65535) {
+      return "the port must be 1 to 65535";
+    }
+    o.address = text.substr(0, colon);
+    o.port = static_cast<std::uint16_t>(port);
+  } catch (const std::exception&) {
+    return "the port must be a number";
+  }
+  return {};
+}
+
+// The flags host and join share.
+void add_site_flags(CLI::App* cmd, deixis::app::SiteRunOptions& o) {
+  cmd->add_option("--site", o.site, "Site configuration (JSON, docs/site-config.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--passphrase", o.passphrase,
+                  "Shared passphrase: peers without it are refused and everything after the "
+                  "handshake is encrypted (both sites must use the same)");
+  cmd->add_option("--seconds", o.seconds,
+                  "How long to stream, from when the sites connect (default: the virtual user's "
+                  "script)")
+      ->check(CLI::Range(0.0, 3600.0));
+  cmd->add_option("--wait", o.wait, "Seconds to wait for the other site")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 3600.0));
+  cmd->add_option("-o,--out", o.out_dir,
+                  "Output directory for session.json and views.mp4 (default: out/<command>)");
+  cmd->add_option("--weights-dir", o.weights_dir,
+                  "Directory with right/ and left/ MoE weights (default: assets/weights, "
+                  "$DEIXIS_REFERENCE_DIR/weights or ../shared/reference/weights)")
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--view-width", o.view_width, "Width of each of the two views (even)")
+      ->capture_default_str()
+      ->check(CLI::Range(64, 3840));
+  cmd->add_option("--view-height", o.view_height, "Height of the views (even)")
+      ->capture_default_str()
+      ->check(CLI::Range(64, 2160));
+  cmd->add_flag_callback(
+      "--no-video", [&o] { o.video = false; }, "Do not render (no EGL context, no ffmpeg)");
 }
 
 }  // namespace
@@ -162,7 +229,69 @@ int main(int argc, char** argv) {
                    "../shared/reference)")
       ->check(CLI::ExistingDirectory);
 
-  CLI11_PARSE(app, argc, argv);
+  // `deixis host` / `deixis join` / `deixis demo` (docs/demo.md).
+  deixis::app::SiteRunOptions host;
+  host.weights_dir = default_weights_dir();
+  host.out_dir = "out/host";
+  CLI::App* host_cmd = app.add_subcommand(
+      "host",
+      "Run a site that others join: its virtual user's tracking goes out, the other site's "
+      "person comes in as a translated avatar in this room, rendered headlessly. Prints "
+      "\"port N\" once listening; exit 1 if the session fails, 2 for bad flags or files");
+  add_site_flags(host_cmd, host);
+  host_cmd->add_option("--port", host.port, "UDP port to listen on (0: any free port)")
+      ->capture_default_str();
+  host_cmd->add_option("--bind", host.address, "Address to listen on")->capture_default_str();
+
+  deixis::app::SiteRunOptions join;
+  join.host = false;
+  join.weights_dir = default_weights_dir();
+  join.out_dir = "out/join";
+  CLI::App* join_cmd = app.add_subcommand(
+      "join",
+      "Run a site that joins a host (as host does otherwise); exit 1 if the host refuses or "
+      "cannot be reached, 2 for bad flags or files");
+  add_site_flags(join_cmd, join);
+  join_cmd
+      ->add_option_function<std::string>(
+          "--connect",
+          [&join](const std::string& endpoint) {
+            const std::string problem = parse_endpoint(endpoint, join);
+            if (!problem.empty()) {
+              throw CLI::ValidationError("--connect", endpoint + ": " + problem);
+            }
+          },
+          "The host, HOST:PORT")
+      ->required();
+
+  deixis::app::DemoOptions demo;
+  demo.weights_dir = default_weights_dir();
+  demo.site_a = std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/sites/a.json";
+  demo.site_b = std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/sites/b.json";
+  CLI::App* demo_cmd = app.add_subcommand(
+      "demo",
+      "Two sites for real: starts `deixis host` (site A) and `deixis join` (site B) as two "
+      "processes on loopback, then writes demo.mp4 (each user beside their avatar in the other "
+      "room), contact_sheet.png and summary.json, and prints the summary");
+  demo_cmd->add_option("-o,--out", demo.out_dir, "Output directory")->capture_default_str();
+  demo_cmd->add_option("--seconds", demo.seconds, "Seconds to stream (default: the scripts')")
+      ->check(CLI::Range(1.0, 600.0));
+  demo_cmd->add_option("--site-a", demo.site_a, "Site A (the host)")->check(CLI::ExistingFile);
+  demo_cmd->add_option("--site-b", demo.site_b, "Site B (joins A)")->check(CLI::ExistingFile);
+  demo_cmd->add_option("--weights-dir", demo.weights_dir, "As for host and join")
+      ->check(CLI::ExistingDirectory);
+  demo_cmd->add_option("--passphrase", demo.passphrase, "A passphrase for the session");
+  demo_cmd->add_option("--timeout", demo.timeout, "Seconds before a site process is given up on")
+      ->capture_default_str()
+      ->check(CLI::Range(5.0, 3600.0));
+
+  // Bad flags exit 2 (as bad files do), with CLI11's message naming the flag; --help exits 0.
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
 
   if (parity_cmd->parsed()) {
     return deixis::app::run_parity(parity);
@@ -181,6 +310,15 @@ int main(int argc, char** argv) {
   }
   if (capture_csv_cmd->parsed()) {
     return deixis::app::run_capture_csv(capture_csv);
+  }
+  if (host_cmd->parsed()) {
+    return deixis::app::run_site(host);
+  }
+  if (join_cmd->parsed()) {
+    return deixis::app::run_site(join);
+  }
+  if (demo_cmd->parsed()) {
+    return deixis::app::run_demo(demo);
   }
   if (capture_judge_cmd->parsed()) {
     return deixis::app::run_capture_judge(capture_judge);

@@ -102,15 +102,6 @@ Pose Placement::T_world_floor() const {
   return {yaw_rotation(yaw_degrees * std::numbers::pi_v<float> / 180.0f), floor};
 }
 
-std::string_view action_name(ScriptStep::Action action) {
-  for (const auto& a : kActions) {
-    if (a.action == action) {
-      return a.name;
-    }
-  }
-  return "?";
-}
-
 SiteConfig parse_site_config(std::string_view json_text, std::string_view source,
                              const std::filesystem::path& base_dir) {
   const JsonReader r(source);

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "capture/script_step.h"
 #include "gesture/math/pose.h"
 #include "gesture/target_map.h"
 
@@ -24,14 +25,10 @@ struct Placement {
   Pose T_world_floor() const;  // the placement as a pose (yaw only)
 };
 
-// One step of a virtual user's script. Targets are ids of the target map (0: the other person).
-struct ScriptStep {
-  enum class Action { kLookAt, kPoint, kTouch, kExplain, kRest };
-  Action action = Action::kRest;
-  TargetId target = kNoTarget;  // kLookAt, kPoint, kTouch
-  float seconds = 1.0f;         // how long to stay (hold, explain, rest) after arriving
-};
-std::string_view action_name(ScriptStep::Action action);
+// One step of a virtual user's script (capture/script_step.h, so that the capture performs it
+// without depending on app/). Targets are ids of the target map (0: the other person).
+using capture::action_name;
+using capture::ScriptStep;
 
 struct VirtualUser {
   std::string subject;  // a synthetic-capture subject, e.g. "173"

@@ -1,12 +1,10 @@
 #include "capture/script.h"
 
-#include <cmath>
 #include <numbers>
 
 #include "capture/actor.h"
+#include "capture/recorder.h"
 #include "capture/targets.h"
-#include "gesture/error.h"
-#include "gesture/features.h"
 
 namespace deixis::capture {
 
@@ -31,11 +29,10 @@ class Performance {
     s.category = category_;
     s.seed = seed;
     s.dominant_eye = subject.dominant_eye;
-    s.calibration = calibration();
+    s.calibration = calibrate(motion_);
     s.targets = targets_;
-    const Ramp idle =
-        labels_.idle_course([&](double onset) { return out_of_posture(onset, s.calibration); });
-    record(end, idle, s);
+    const Ramp idle = idle_course(labels_, motion_, s.calibration);
+    record(motion_, labels_, idle, targets_, end, s);
     return s;
   }
 
@@ -165,75 +162,6 @@ class Performance {
       }
     }
     return t;
-  }
-
-  BodyCalibration calibration() const {
-    BodyCalibration c;
-    c.height = body_.subject.height;
-    c.arm_length = body_.subject.arm_length;
-    c.deictic_hand = body_.subject.handedness;
-    // Root O: H in the upright posture (no sway), yaw-only (paper §IV.A).
-    const Pose upright = motion_.torso_pose(TorsoKey{});
-    c.T_world_root =
-        Pose{motion_.stance().rotation, head_position(body_, upright, upright.rotation)};
-    for (const Hand h : {Hand::kLeft, Hand::kRight}) {
-      const Vec3 wrist = transform_point(upright, body_.rest_wrist_in_torso[index(h)].translation);
-      c.rest_wrist_in_root[index(h)] = transform_point(inverse(c.T_world_root), wrist);
-    }
-    return c;
-  }
-
-  const TargetObject& find(TargetId id) const {
-    for (const TargetObject& t : targets_) {
-      if (t.id == id) {
-        return t;
-      }
-    }
-    throw Error("capture: script refers to unknown target " + std::to_string(id));
-  }
-
-  // When the deictic wrist, moving out of the upright posture from `onset`, is first 0.25 m
-  // (kNearRestDistance) from its rest position; at most 1 s.
-  double out_of_posture(double onset, const BodyCalibration& calibration) const {
-    const Hand hand = body_.subject.handedness;
-    const Vec3 rest =
-        transform_point(calibration.T_world_root, calibration.rest_wrist_in_root[index(hand)]);
-    constexpr double kStep = 1.0 / 240.0;
-    for (double t = onset; t < onset + 1.0; t += kStep) {
-      const Vec3 wrist = motion_.posture_at(t).T_world_wrist[index(hand)].translation;
-      if ((wrist - rest).norm() >= kNearRestDistance) {
-        return t;
-      }
-    }
-    return onset + 1.0;
-  }
-
-  void record(double end, const Ramp& idle, Sequence& s) const {
-    const auto n = static_cast<std::size_t>(std::floor(end * kFrameRate)) + 1;
-    s.frames.reserve(n);
-    s.labels.reserve(n);
-    s.joints.reserve(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double t = static_cast<double>(i) / kFrameRate;
-      const Posture posture = motion_.posture_at(t);
-      const Joints joints = solve_joints(body_, posture);
-      TrackingFrame f = track(posture, joints);
-      f.time = t;
-      f.head_target = labels_.head_target.at(t);
-      f.hand_target = labels_.hand_target.at(t);
-      f.head_target_position = find(f.head_target).position;
-      f.hand_target_position = find(f.hand_target).position;
-      s.frames.push_back(f);
-      s.joints.push_back(joints);
-      s.labels.push_back({labels_.gaze.value_at(t), labels_.deictic.value_at(t), idle.value_at(t)});
-    }
-    s.phase_keys.assign(n, 0);
-    for (const double k : labels_.phase_keys) {
-      const auto i = static_cast<long>(std::lround(k * kFrameRate));
-      if (i >= 0 && static_cast<std::size_t>(i) < n) {
-        s.phase_keys[static_cast<std::size_t>(i)] = 1;
-      }
-    }
   }
 
   const Body body_;

@@ -1,0 +1,145 @@
+#include "app/child_process.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+
+#include "gesture/error.h"
+
+extern char** environ;
+
+namespace deixis::app {
+
+ChildProcess::ChildProcess(const std::string& name, const std::string& program,
+                           const std::vector<std::string>& args, bool search_path)
+    : name_(name) {
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0) {
+    throw Error(name + ": cannot make a pipe: " + std::strerror(errno));
+  }
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, fds[1], STDOUT_FILENO);
+  std::vector<char*> argv;
+  argv.push_back(const_cast<char*>(program.c_str()));
+  for (const std::string& a : args) {
+    argv.push_back(const_cast<char*>(a.c_str()));
+  }
+  argv.push_back(nullptr);
+  const int rc = search_path
+                     ? posix_spawnp(&pid_, program.c_str(), &actions, nullptr, argv.data(), environ)
+                     : posix_spawn(&pid_, program.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(fds[1]);
+  out_ = fds[0];
+  if (rc != 0) {
+    close(out_);
+    out_ = -1;
+    pid_ = -1;
+    throw Error(name + ": cannot start " + program + ": " + std::strerror(rc));
+  }
+}
+
+ChildProcess::~ChildProcess() {
+  if (pid_ > 0 && !exited_) {
+    terminate();
+  }
+  if (out_ >= 0) {
+    close(out_);
+  }
+}
+
+double ChildProcess::now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+bool ChildProcess::read_some(int wait_ms) {
+  if (out_ < 0) {
+    return false;
+  }
+  pollfd p{out_, POLLIN, 0};
+  if (::poll(&p, 1, wait_ms) <= 0) {
+    return false;
+  }
+  char buffer[4096];
+  const ssize_t n = read(out_, buffer, sizeof buffer);
+  if (n <= 0) {
+    close(out_);
+    out_ = -1;  // the child closed its output (it is exiting)
+    return false;
+  }
+  output_.append(buffer, static_cast<std::size_t>(n));
+  return true;
+}
+
+std::optional<std::string> ChildProcess::line_starting(const std::string& prefix, double deadline) {
+  while (true) {
+    std::size_t newline;
+    while ((newline = output_.find('\n', consumed_)) != std::string::npos) {
+      const std::string line = output_.substr(consumed_, newline - consumed_);
+      consumed_ = newline + 1;
+      if (line.rfind(prefix, 0) == 0) {
+        return line;
+      }
+    }
+    const double left = deadline - now();
+    if (left <= 0.0 || out_ < 0) {
+      return std::nullopt;
+    }
+    read_some(static_cast<int>(std::min(left, 0.1) * 1000.0) + 1);
+  }
+}
+
+bool ChildProcess::poll() {
+  while (read_some(0)) {
+  }
+  if (exited_ || pid_ <= 0) {
+    return exited_;
+  }
+  int status = 0;
+  if (waitpid(pid_, &status, WNOHANG) == pid_) {
+    exited_ = true;
+    exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+  return exited_;
+}
+
+void ChildProcess::terminate() {
+  if (pid_ <= 0 || exited_) {
+    return;
+  }
+  kill(pid_, SIGTERM);
+  for (int i = 0; i < 20 && !poll(); ++i) {
+    usleep(50'000);
+  }
+  if (!exited_) {
+    kill(pid_, SIGKILL);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    exited_ = true;
+    exit_code_ = 128 + SIGKILL;
+  }
+}
+
+int run_to_completion(const std::string& name, const std::string& program,
+                      const std::vector<std::string>& args, double timeout) {
+  ChildProcess child(name, program, args, true);
+  const double deadline = ChildProcess::now() + timeout;
+  while (!child.poll()) {
+    if (ChildProcess::now() > deadline) {
+      child.terminate();
+      throw Error(name + ": did not finish within " + std::to_string(timeout) + " s");
+    }
+    usleep(20'000);
+  }
+  return child.exit_code();
+}
+
+}  // namespace deixis::app

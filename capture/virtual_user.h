@@ -1,0 +1,50 @@
+#pragma once
+// A site's scripted person (docs/site-config.md, "virtual_user"): a capture subject standing at
+// the site's floor placement performs the site's script (look at, point, touch, explain, rest)
+// in that room, with the other person's avatar (target 0) where this room shows it. The result is
+// what a headset would report, a 30 Hz Sequence with exact labels, plus when each step reached
+// its completion state, so a run can measure there.
+//
+// The same subject, room, script and seed give the same performance. The script may be repeated
+// until a minimum duration is covered (a demo that runs longer than its script).
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "capture/script_step.h"
+#include "capture/sequence.h"
+#include "capture/subject.h"
+
+namespace deixis::capture {
+
+struct VirtualUserScene {
+  Pose T_world_floor;  // where the person stands: a floor point, yaw only (0 faces −Z)
+  std::span<const TargetObject> objects;  // the room's objects (ids ≥ 1)
+  Vec3 partner_head = Vec3::Zero();       // target 0: the other person's (avatar's) eyes
+};
+
+struct StepTiming {
+  std::size_t step = 0;  // index into the script
+  int cycle = 0;         // which repetition of the script
+  ScriptStep::Action action = ScriptStep::Action::kRest;
+  TargetId target = kNoTarget;
+  double start = 0.0;     // s: the step begins
+  double complete = 0.0;  // s: its completion state (gaze settled, reach complete, upright,
+                          // last free-form stroke ended)
+  double end = 0.0;       // s: complete + the step's seconds
+};
+
+struct ScriptPerformance {
+  Sequence sequence;  // frames[i].time = i / 30; targets: the room's objects and the partner
+  std::vector<StepTiming> steps;
+};
+
+// Performs `script` (1 or more steps) by `subject`, at least once and repeated until
+// `min_seconds` is covered. Throws deixis::Error naming the step when it cannot be performed
+// (an unknown target, a touch target out of reach from where the person stands).
+ScriptPerformance perform_script(const Subject& subject, std::span<const ScriptStep> script,
+                                 const VirtualUserScene& scene, std::uint64_t seed,
+                                 double min_seconds = 0.0);
+
+}  // namespace deixis::capture

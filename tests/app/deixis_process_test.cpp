@@ -1,0 +1,333 @@
+// `deixis host`, `deixis join` and `deixis demo` as real processes (the built `deixis`), over real
+// ENet sockets on 127.0.0.1: tracking flows both ways and each receiving avatar follows its
+// person (the pointing error at the remote completion state beats copying the pose); a wrong
+// passphrase is refused; bad flags and files exit 2 naming what is wrong; a short demo writes a
+// well-formed summary.json, a video and a contact sheet. Hosts listen on port 0 and print the
+// port, so no test guesses a free port.
+
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_support.h"
+
+extern char** environ;
+
+namespace deixis::app {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+constexpr auto kDeadline = std::chrono::seconds(90);  // a hung child fails the test, not CI
+
+fs::path site(const char* name) {
+  return deixis::testing::source_dir() / "assets/sites" / name;
+}
+
+std::string weights_dir() {
+  return (deixis::testing::reference_dir() / "weights").string();
+}
+
+// `deixis` with `args`; standard output and standard error each on a pipe.
+class Deixis {
+ public:
+  explicit Deixis(const std::vector<std::string>& args) {
+    int out[2];
+    int err[2];
+    if (pipe(out) != 0 || pipe(err) != 0) {
+      ADD_FAILURE() << "pipe failed";
+      return;
+    }
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, err[1], STDERR_FILENO);
+    posix_spawn_file_actions_addclose(&actions, out[0]);
+    posix_spawn_file_actions_addclose(&actions, err[0]);
+    std::vector<char*> argv = {const_cast<char*>(DEIXIS_EXE)};
+    for (const std::string& a : args) {
+      argv.push_back(const_cast<char*>(a.c_str()));
+    }
+    argv.push_back(nullptr);
+    if (posix_spawn(&pid_, DEIXIS_EXE, &actions, nullptr, argv.data(), environ) != 0) {
+      ADD_FAILURE() << "cannot start " << DEIXIS_EXE;
+      pid_ = -1;
+    }
+    posix_spawn_file_actions_destroy(&actions);
+    close(out[1]);
+    close(err[1]);
+    fds_[0] = out[0];
+    fds_[1] = err[0];
+  }
+  ~Deixis() {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);  // only when a test failed before the child finished
+      waitpid(pid_, nullptr, 0);
+    }
+    for (int fd : fds_) {
+      if (fd >= 0) {
+        close(fd);
+      }
+    }
+  }
+  Deixis(const Deixis&) = delete;
+  Deixis& operator=(const Deixis&) = delete;
+
+  // The port a host printed ("port N"), or 0.
+  int port() {
+    const auto end = Clock::now() + kDeadline;
+    while (Clock::now() < end) {
+      const std::size_t at = text_[0].find("port ");
+      const std::size_t newline = text_[0].find('\n', at == std::string::npos ? 0 : at);
+      if (at != std::string::npos && newline != std::string::npos) {
+        return std::stoi(text_[0].substr(at + 5, newline - at - 5));
+      }
+      if (!read_some(100)) {
+        return 0;
+      }
+    }
+    return 0;
+  }
+
+  // Waits for the exit code (everything printed is in out() and err()); -1 on time-out.
+  int wait() {
+    const auto end = Clock::now() + kDeadline;
+    while (Clock::now() < end && read_some(100)) {
+    }
+    int status = 0;
+    if (waitpid(pid_, &status, 0) != pid_) {
+      return -1;
+    }
+    pid_ = -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+
+  const std::string& out() const { return text_[0]; }
+  const std::string& err() const { return text_[1]; }
+
+ private:
+  // Reads what is there on either pipe; false once both have ended.
+  bool read_some(int wait_ms) {
+    pollfd p[2];
+    int n = 0;
+    for (int fd : fds_) {
+      if (fd >= 0) {
+        p[n++] = {fd, POLLIN, 0};
+      }
+    }
+    if (n == 0) {
+      return false;
+    }
+    if (::poll(p, static_cast<nfds_t>(n), wait_ms) <= 0) {
+      return true;
+    }
+    for (int k = 0; k < n; ++k) {
+      if ((p[k].revents & (POLLIN | POLLHUP)) == 0) {
+        continue;
+      }
+      const int which = p[k].fd == fds_[0] ? 0 : 1;
+      char buffer[4096];
+      const ssize_t got = read(p[k].fd, buffer, sizeof buffer);
+      if (got <= 0) {
+        close(fds_[which]);
+        fds_[which] = -1;
+      } else {
+        text_[which].append(buffer, static_cast<std::size_t>(got));
+      }
+    }
+    return true;
+  }
+
+  pid_t pid_ = -1;
+  int fds_[2] = {-1, -1};
+  std::string text_[2];
+};
+
+json read_json(const fs::path& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in.good()) << path;
+  return in ? json::parse(in) : json();
+}
+
+std::vector<std::string> site_flags(const char* site_file, const fs::path& out,
+                                    const std::string& seconds, const std::string& wait = "30") {
+  return {"--site",        site(site_file).string(),
+          "--out",         out.string(),
+          "--weights-dir", weights_dir(),
+          "--seconds",     seconds,
+          "--wait",        wait};
+}
+
+std::vector<std::string> operator+(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+double sum_of_angles(const json& pointing, const char* who) {
+  return pointing[std::string(who) + "_horizontal_deg"].get<double>() +
+         pointing[std::string(who) + "_vertical_deg"].get<double>();
+}
+
+TEST(DeixisSites, TwoProcessesExchangeTrackingAndTheAvatarsFollow) {
+  deixis::testing::ScratchDir dir;
+  Deixis host(std::vector<std::string>{"host", "--port", "0", "--bind", "127.0.0.1", "--no-video"} +
+              site_flags("a.json", dir.path() / "A", "5"));
+  const int port = host.port();
+  ASSERT_GT(port, 0) << host.err();
+  Deixis join(std::vector<std::string>{"join", "--connect", "127.0.0.1:" + std::to_string(port),
+                                       "--no-video"} +
+              site_flags("b.json", dir.path() / "B", "5"));
+  ASSERT_EQ(join.wait(), 0) << join.err();
+  ASSERT_EQ(host.wait(), 0) << host.err();
+
+  for (const char* name : {"A", "B"}) {
+    SCOPED_TRACE(name);
+    const json s = read_json(dir.path() / name / "session.json");
+    EXPECT_EQ(s["format"], "deixis-site-run");
+    EXPECT_EQ(s["site"], name);
+    EXPECT_EQ(s["peer_site"], std::string(name) == "A" ? "B" : "A");
+    EXPECT_GE(s["ticks"].get<int>(), 149);
+    const json& net = s["network"];
+    EXPECT_GT(net["tracking_received"].get<int>(), 100);
+    EXPECT_GT(net["frames_played"].get<int>(), 100);
+    EXPECT_EQ(net["rejected"].get<int>(), 0);
+    EXPECT_EQ(net["bytes_per_frame"].get<int>(), 82);
+    // The avatar was shown for most of the run and translation took time.
+    EXPECT_GT(s["avatar_visible_ticks"].get<int>(), 100);
+    EXPECT_GT(s["translation_ms"]["count"].get<int>(), 100);
+    // The other person pointed: the avatar's ray is finite and closer to this room's target than
+    // the pose copied unchanged.
+    const json& pointing = s["pointing"];
+    ASSERT_GE(pointing["count"].get<int>(), 1) << s.dump(2);
+    EXPECT_TRUE(std::isfinite(sum_of_angles(pointing, "avatar")));
+    EXPECT_LT(sum_of_angles(pointing, "avatar"), sum_of_angles(pointing, "copy")) << s.dump(2);
+    EXPECT_LT(pointing["avatar_horizontal_deg"].get<double>(), 10.0);
+  }
+}
+
+TEST(DeixisSites, AWrongPassphraseIsRefused) {
+  deixis::testing::ScratchDir dir;
+  Deixis host(std::vector<std::string>{"host", "--port", "0", "--bind", "127.0.0.1", "--no-video",
+                                       "--passphrase", "blue whale"} +
+              site_flags("a.json", dir.path() / "A", "2", "4"));
+  const int port = host.port();
+  ASSERT_GT(port, 0) << host.err();
+  Deixis join(std::vector<std::string>{"join", "--connect", "127.0.0.1:" + std::to_string(port),
+                                       "--no-video", "--passphrase", "green whale"} +
+              site_flags("b.json", dir.path() / "B", "2"));
+  EXPECT_EQ(join.wait(), 1);
+  EXPECT_NE(join.err().find("refused this site: wrong passphrase"), std::string::npos)
+      << join.err();
+  EXPECT_NE(join.err().find("passphrases differ"), std::string::npos) << join.err();
+  // The host never streamed with it and says why nobody joined.
+  EXPECT_EQ(host.wait(), 1);
+  EXPECT_NE(host.err().find("wrong passphrase"), std::string::npos) << host.err();
+  EXPECT_FALSE(fs::exists(dir.path() / "B/session.json"));
+  EXPECT_FALSE(fs::exists(dir.path() / "A/session.json"));
+}
+
+struct BadInput {
+  std::vector<std::string> args;
+  std::string names;  // what the message must name
+};
+
+TEST(DeixisSites, BadFlagsAndFilesExit2NamingWhatIsWrong) {
+  deixis::testing::ScratchDir dir;
+  const fs::path bad_site = dir.path() / "bad.json";
+  {
+    std::ifstream in(site("a.json"));
+    std::stringstream read;
+    read << in.rdbuf();
+    std::string text = read.str();
+    text.replace(text.find("\"subject\": \"172\""), 16, "\"subject\": \"999\"");
+    const std::string assets = (deixis::testing::source_dir() / "assets").string();
+    for (const std::string relative : {"../rooms/", "../avatars/"}) {
+      text.replace(text.find(relative), 2, assets);  // the file lives elsewhere now
+    }
+    std::ofstream(bad_site) << text;
+  }
+  const std::string a = site("a.json").string();
+  const std::vector<BadInput> cases = {
+      {{"host", "--site", a, "--port", "seventy"}, "--port"},
+      {{"host", "--site", a, "--seconds", "-3"}, "--seconds"},
+      {{"host", "--site", (dir.path() / "missing.json").string()}, "--site"},
+      {{"host"}, "--site"},
+      {{"host", "--site", a, "--frobnicate"}, "--frobnicate"},
+      {{"join", "--site", a, "--connect", "localhost"}, "--connect"},
+      {{"join", "--site", a, "--connect", "127.0.0.1:99999"}, "--connect"},
+      {{"join", "--site", a}, "--connect"},
+      {{"demo", "--seconds", "0"}, "--seconds"},
+      {{"host", "--site", a, "--weights-dir", (dir.path() / "nowhere").string()}, "--weights-dir"},
+      // A readable file with a bad field: named with the file.
+      {{"host", "--site", bad_site.string(), "--port", "0"}, "bad.json"},
+      {{"host", "--site", bad_site.string(), "--port", "0"}, "999"},
+  };
+  for (const BadInput& c : cases) {
+    SCOPED_TRACE(c.args[0] + " … " + c.args.back());
+    Deixis d(c.args);
+    EXPECT_EQ(d.wait(), 2) << d.err();
+    EXPECT_NE(d.err().find(c.names), std::string::npos) << d.err();
+  }
+}
+
+TEST(DeixisSites, HelpOfEveryCommandExits0) {
+  for (const char* command : {"host", "join", "demo"}) {
+    Deixis d({command, "--help"});
+    EXPECT_EQ(d.wait(), 0) << command;
+    EXPECT_NE(d.out().find("--seconds"), std::string::npos) << command << d.out();
+  }
+}
+
+TEST(DeixisDemo, AShortDemoWritesItsSummaryVideoAndContactSheet) {
+  deixis::testing::ScratchDir dir;
+  const auto start = Clock::now();
+  Deixis demo(
+      {"demo", "--seconds", "6", "--out", dir.path().string(), "--weights-dir", weights_dir()});
+  ASSERT_EQ(demo.wait(), 0) << demo.err();
+  const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+  std::printf("demo --seconds 6: %.1f s wall\n", wall);
+  EXPECT_NE(demo.out().find("tracking sent / received"), std::string::npos) << demo.out();
+
+  const json summary = read_json(dir.path() / "summary.json");
+  EXPECT_EQ(summary["format"], "deixis-demo");
+  EXPECT_GT(summary["wall_seconds"].get<double>(), 6.0);
+  for (const char* name : {"A", "B"}) {
+    SCOPED_TRACE(name);
+    const json& s = summary["sites"][name];
+    EXPECT_EQ(s["site"], name);
+    EXPECT_NEAR(s["ticks"].get<double>(), 180.0, 1.0);
+    EXPECT_GT(s["network"]["tracking_received"].get<int>(), 120);
+    EXPECT_GT(s["avatar_visible_ticks"].get<int>(), 120);
+    EXPECT_GT(s["render_ms"]["count"].get<int>(), 170);
+    EXPECT_TRUE(s["render_ms"]["p50"].is_number());
+    EXPECT_EQ(s["video"], "views.mp4");
+  }
+  // A non-empty MP4 (an ISO BMFF "ftyp" box up front) and a PNG contact sheet.
+  for (const auto& [file, magic] : {std::pair<const char*, std::string>{"demo.mp4", "ftyp"},
+                                    {"contact_sheet.png", "\x89PNG"}}) {
+    SCOPED_TRACE(file);
+    const fs::path path = dir.path() / file;
+    ASSERT_TRUE(fs::exists(path));
+    EXPECT_GT(fs::file_size(path), 10'000u);
+    std::ifstream in(path, std::ios::binary);
+    std::string head(12, '\0');
+    in.read(head.data(), 12);
+    EXPECT_NE(head.find(magic), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace deixis::app
