@@ -1,12 +1,16 @@
 // A full translator tick (features, MPNet, blend, UGNet, decode) for one remote person, one
-// thread. Goal (issue 6): ≤ 60 µs; the paper's MPNet + UGNet + IK took 6.7 ms.
+// thread, and the whole remote avatar's tick (that, touch contact and the whole-avatar IK on the
+// default avatar). Goals (issue 6): tick ≤ 60 µs, IK ≤ 10 µs; the paper's MPNet + UGNet + IK took
+// 6.7 ms.
 
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <filesystem>
 
+#include "avatar/avatar_loader.h"
 #include "gesture/translator.h"
+#include "presence/remote_avatar.h"
 
 namespace {
 
@@ -60,6 +64,33 @@ void BM_TranslatorTick(benchmark::State& state) {
   }
 }
 
+void BM_RemoteAvatarTick(benchmark::State& state) {
+  const auto w = reference_dir() / "weights/right";
+  const ik::AvatarSolver solver = ik::AvatarSolver::build(
+      avatar::load_avatar(std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/avatars/default.glb")
+          .rig);
+  presence::RemoteAvatarConfig config;
+  config.user.T_world_root = Pose{Mat3::Identity(), Vec3(0, 1.6f, 0)};
+  config.T_world_floor = Pose{yaw_rotation(0.7f), Vec3(2, 0, -1)};
+  presence::RemoteAvatar avatar(nn::Mpnet::load(w / "MPNet(MoE)(AC)80.safetensors"),
+                                nn::Ugnet::load(w / "UGNet(MoE)(AC)120.safetensors"), solver,
+                                config);
+  TargetMap room;
+  room.objects.push_back(
+      {1, "Jupiter", TargetKind::kSphere, Vec3(-1, 1.4f, -3), Vec3(0.4f, 0.4f, 0.4f)});
+  const LocalTargets targets{&room, Vec3(0, 1.6f, -2)};
+  std::vector<TrackingFrame> frames;
+  for (int i = 0; i < 256; ++i) {
+    frames.push_back(frame_at(i));
+  }
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(avatar.tick(&frames[i++ % frames.size()], targets));
+    benchmark::DoNotOptimize(avatar.model_pose().data());
+  }
+}
+
 }  // namespace
 
 BENCHMARK(BM_TranslatorTick)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RemoteAvatarTick)->Unit(benchmark::kMicrosecond);
