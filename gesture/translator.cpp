@@ -95,11 +95,11 @@ AvatarFrame Translator::tick(const TrackingFrame* frame, const LocalTargets& roo
     last_valid_ = *frame;
     const Hand other_hand = other(config_.user.deictic_hand);
     if ((frame->valid & tracked::hand(other_hand)) != 0) {
-      const Mat3 R_root_world = config_.user.T_world_root.rotation.transpose();
+      const Mat3& R_world_root = config_.user.T_world_root.rotation;
       const Pose& wrist = frame->T_world_wrist[index(other_hand)];
       last_other_wrist_from_head_ = {
-          R_root_world * wrist.rotation,
-          R_root_world * (wrist.translation - frame->T_world_head.translation)};
+          R_world_root.transpose() * wrist.rotation,
+          R_world_root.transpose() * (wrist.translation - frame->T_world_head.translation)};
     }
   } else {
     if (frame != nullptr) {

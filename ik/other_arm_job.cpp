@@ -30,10 +30,12 @@ Vec3 direction_of(float azimuth, float elevation) {
 
 OtherHandTarget other_hand_target(const Pose& T_world_root, const Pose& T_world_head,
                                   const Pose& T_world_wrist, float scale) {
-  const Mat3 R_root_world = T_world_root.rotation.transpose();
-  const Vec3 v = R_root_world * (T_world_wrist.translation - T_world_head.translation);
+  // Products with the transpose, not a transposed copy: GCC 12 at -O1 (the ASan build) reports a
+  // false -Wmaybe-uninitialized inside Eigen's aliasing check for the copy.
+  const Mat3& R_world_root = T_world_root.rotation;
+  const Vec3 v = R_world_root.transpose() * (T_world_wrist.translation - T_world_head.translation);
   return other_hand_target(
-      Pose{R_root_world * T_world_wrist.rotation, scale > 0.0f ? Vec3(v / scale) : v});
+      Pose{R_world_root.transpose() * T_world_wrist.rotation, scale > 0.0f ? Vec3(v / scale) : v});
 }
 
 OtherHandTarget other_hand_target(const Pose& wrist_from_head) {
