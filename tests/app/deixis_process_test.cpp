@@ -182,14 +182,16 @@ double sum_of_angles(const json& pointing, const char* who) {
 }
 
 TEST(DeixisSites, TwoProcessesExchangeTrackingAndTheAvatarsFollow) {
+  // 8 s: each script's pointing hold (done at about 4 s) ends well before the run does, so it is
+  // measured at its end even when a slow (sanitizer) build runs late.
   deixis::testing::ScratchDir dir;
   Deixis host(std::vector<std::string>{"host", "--port", "0", "--bind", "127.0.0.1", "--no-video"} +
-              site_flags("a.json", dir.path() / "A", "5"));
+              site_flags("a.json", dir.path() / "A", "8"));
   const int port = host.port();
   ASSERT_GT(port, 0) << host.err();
   Deixis join(std::vector<std::string>{"join", "--connect", "127.0.0.1:" + std::to_string(port),
                                        "--no-video"} +
-              site_flags("b.json", dir.path() / "B", "5"));
+              site_flags("b.json", dir.path() / "B", "8"));
   ASSERT_EQ(join.wait(), 0) << join.err();
   ASSERT_EQ(host.wait(), 0) << host.err();
 
@@ -199,7 +201,7 @@ TEST(DeixisSites, TwoProcessesExchangeTrackingAndTheAvatarsFollow) {
     EXPECT_EQ(s["format"], "deixis-site-run");
     EXPECT_EQ(s["site"], name);
     EXPECT_EQ(s["peer_site"], std::string(name) == "A" ? "B" : "A");
-    EXPECT_GE(s["ticks"].get<int>(), 149);
+    EXPECT_GE(s["ticks"].get<int>(), 239);
     const json& net = s["network"];
     EXPECT_GT(net["tracking_received"].get<int>(), 100);
     EXPECT_GT(net["frames_played"].get<int>(), 100);
