@@ -135,11 +135,15 @@ class EndToEnd : public ::testing::Test {
   }
 
   // Runs `count` sequences of `category` by `subject` through the remote avatar in room B.
+  // The authors' released weights (../shared/reference/weights) or the project's own.
+  static fs::path authors_weights() { return testing::reference_dir() / "weights"; }
+  static fs::path own_weights() { return fs::path(DEIXIS_SOURCE_DIR) / "assets/weights"; }
+
   static Outcome run(const std::string& subject_name, capture::Category category, int count,
-                     const ik::AvatarSolver& solver) {
+                     const ik::AvatarSolver& solver,
+                     const fs::path& weights_root = authors_weights()) {
     const capture::Subject& subject = capture::find_subject(subject_name);
-    const fs::path weights = testing::reference_dir() / "weights" /
-                             (subject.handedness == Hand::kLeft ? "left" : "right");
+    const fs::path weights = weights_root / (subject.handedness == Hand::kLeft ? "left" : "right");
     const nn::Mpnet mpnet = nn::Mpnet::load(weights / "MPNet(MoE)(AC)80.safetensors");
     const nn::Ugnet ugnet = nn::Ugnet::load(weights / "UGNet(MoE)(AC)120.safetensors");
     const bool touching = capture::is_touching(category);
@@ -275,6 +279,29 @@ TEST_F(EndToEnd, AThirdPartyRigPointsAndTouchesToo) {
   const Outcome touching = run("180", capture::Category::kTouchingSingle, 6, bcn);
   report("180 touching, BCN_Epileptic avatar", touching);
   expect_touching(touching);
+}
+
+TEST_F(EndToEnd, WithTheProjectsOwnWeights) {
+  for (const char* hand : {"right", "left"}) {
+    for (const char* file : {"MPNet(MoE)(AC)80.safetensors", "UGNet(MoE)(AC)120.safetensors"}) {
+      if (!fs::exists(own_weights() / hand / file)) {
+        GTEST_SKIP() << "assets/weights/" << hand << "/" << file
+                     << " is not there yet: the project's own MoE weights are still training "
+                        "(issue 5)";
+      }
+    }
+  }
+  const ik::AvatarSolver solver = default_avatar();
+  for (const char* subject : {"172", "173"}) {
+    const Outcome pointing =
+        run(subject, capture::Category::kPointingSingle, 6, solver, own_weights());
+    report((std::string(subject) + " pointing, own weights").c_str(), pointing);
+    expect_pointing(pointing);
+    const Outcome touching =
+        run(subject, capture::Category::kTouchingSingle, 6, solver, own_weights());
+    report((std::string(subject) + " touching, own weights").c_str(), touching);
+    expect_touching(touching);
+  }
 }
 
 }  // namespace
