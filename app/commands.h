@@ -102,4 +102,19 @@ struct DemoOptions {
 };
 int run_demo(const DemoOptions& options);
 
+// `deixis eval`: the paper's Tables I–IV and Fig. 5 on the held-out subjects (docs/eval.md).
+// Exit 0 done, 2 bad flags or files (including training-subject data).
+struct EvalOptions {
+  std::filesystem::path data_dir;
+  std::vector<std::string> weights;         // "label=DIR"; empty: the defaults
+  std::filesystem::path reference_weights;  // the authors' (default rows)
+  std::filesystem::path project_weights;    // assets/weights (a default row when present)
+  std::filesystem::path encoder_dir;
+  std::filesystem::path out_dir = "out/eval";
+  std::vector<std::string> subjects;
+  bool quick = false;
+  std::string command_line;
+};
+int run_eval(const EvalOptions& options);
+
 }  // namespace deixis::app

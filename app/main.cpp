@@ -285,6 +285,44 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(5.0, 3600.0));
 
+  // `deixis eval` (docs/eval.md).
+  deixis::app::EvalOptions eval;
+  eval.data_dir = std::filesystem::path(DEIXIS_SOURCE_DIR) / "out/data";
+  eval.reference_weights = default_reference_dir() / "weights";
+  if (!std::getenv("DEIXIS_REFERENCE_DIR")) {
+    eval.reference_weights =
+        (std::filesystem::path(DEIXIS_SOURCE_DIR) / "../shared/reference/weights")
+            .lexically_normal();
+  }
+  eval.project_weights = std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/weights";
+  for (int i = 0; i < argc; ++i) {
+    eval.command_line += (i ? " " : "") + std::string(i ? argv[i] : "deixis");
+  }
+  CLI::App* eval_cmd = app.add_subcommand(
+      "eval",
+      "The paper's Tables I-IV and Fig. 5 on the held-out test subjects: MPE and SS (MPNet), "
+      "DIP, DR and FMD (the chained networks), robustness to missed tracking, jitter and noise; "
+      "every architecture, the copy-paste baseline. Writes tables.md, results.json and fig5.png; "
+      "progress on stderr; exit 2 for bad flags or files");
+  eval_cmd->add_option("--data", eval.data_dir, "Directory with test_<subject>.safetensors")
+      ->capture_default_str()
+      ->check(CLI::ExistingDirectory);
+  eval_cmd->add_option(
+      "--weights", eval.weights,
+      "A weight set LABEL=DIR (DIR holds right/ and left/ with the authors' file names); "
+      "repeatable. Default: authors=$DEIXIS_REFERENCE_DIR/weights or ../shared/reference/weights, "
+      "plus deixis=assets/weights when present");
+  eval_cmd
+      ->add_option("--fmd-encoder", eval.encoder_dir,
+                   "Directory with right/ and left/AutoEncoder.safetensors (deixis-train "
+                   "autoencoder); default: looked for in the weight sets, else FMD is n/a")
+      ->check(CLI::ExistingDirectory);
+  eval_cmd->add_option("-o,--out", eval.out_dir, "Output directory")->capture_default_str();
+  eval_cmd->add_option("--subjects", eval.subjects, "Only these test subjects, e.g. 161,173")
+      ->delimiter(',');
+  eval_cmd->add_flag("--quick", eval.quick,
+                     "A tiny sample (2 sequences per category and subject): seconds, for CI");
+
   // Bad flags exit 2 (as bad files do), with CLI11's message naming the flag; --help exits 0.
   try {
     app.parse(argc, argv);
@@ -319,6 +357,9 @@ int main(int argc, char** argv) {
   }
   if (demo_cmd->parsed()) {
     return deixis::app::run_demo(demo);
+  }
+  if (eval_cmd->parsed()) {
+    return deixis::app::run_eval(eval);
   }
   if (capture_judge_cmd->parsed()) {
     return deixis::app::run_capture_judge(capture_judge);

@@ -1,0 +1,95 @@
+// `deixis eval`: every row of the paper's Tables I–IV and Fig. 5 on the held-out subjects
+// (eval/evaluation.h); this file resolves the weight sets, runs it and writes tables.md,
+// results.json and fig5.png. Exit codes: 0 done, 2 bad flags or files.
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+
+#include "app/commands.h"
+#include "eval/evaluation.h"
+#include "eval/figure.h"
+#include "gesture/error.h"
+
+namespace deixis::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// "label=DIR" → a weight set; a malformed one is a flag error (exit 2).
+eval::WeightSet parse_weight_set(const std::string& text) {
+  const std::size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) {
+    throw Error("--weights " + text +
+                ": expected LABEL=DIR, e.g. authors=../shared/reference/weights");
+  }
+  eval::WeightSet w{text.substr(0, eq), text.substr(eq + 1)};
+  if (!fs::is_directory(w.dir)) {
+    throw Error("--weights " + text + ": " + w.dir.string() + " is not a directory");
+  }
+  return w;
+}
+
+std::vector<eval::WeightSet> weight_sets(const EvalOptions& o) {
+  std::vector<eval::WeightSet> sets;
+  for (const std::string& text : o.weights) {
+    sets.push_back(parse_weight_set(text));
+  }
+  if (!sets.empty()) {
+    return sets;
+  }
+  if (!fs::is_directory(o.reference_weights)) {
+    throw Error(o.reference_weights.string() +
+                ": the authors' weights are not there (set DEIXIS_REFERENCE_DIR or pass "
+                "--weights LABEL=DIR)");
+  }
+  sets.push_back({"authors", o.reference_weights});
+  if (fs::exists(o.project_weights / "right/MPNet(MoE)(AC)80.safetensors")) {
+    sets.push_back({"deixis", o.project_weights});
+  }
+  return sets;
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) {
+    throw Error(path.string() + ": cannot write");
+  }
+}
+
+}  // namespace
+
+int run_eval(const EvalOptions& o) {
+  try {
+    eval::EvalOptions options;
+    options.data_dir = o.data_dir;
+    options.subjects = o.subjects;
+    options.weights = weight_sets(o);
+    options.encoder_dir = o.encoder_dir;
+    options.quick = o.quick;
+    options.sampling = o.quick ? eval::quick_sampling() : eval::full_sampling();
+    options.command = o.command_line;
+    options.progress = [](const std::string& line) {
+      std::fprintf(stderr, "deixis eval: %s\n", line.c_str());
+    };
+    fs::create_directories(o.out_dir);
+    const eval::Report report = eval::evaluate(options);
+    write_text(o.out_dir / "tables.md", eval::markdown(report));
+    write_text(o.out_dir / "results.json", eval::json(report));
+    if (!report.figure5.empty()) {
+      eval::write_figure5(report.figure5, o.out_dir / "fig5.png");
+    }
+    std::printf("%s", eval::markdown(report).c_str());
+    std::fprintf(stderr, "deixis eval: wrote %s/{tables.md,results.json%s} in %.1f s\n",
+                 o.out_dir.string().c_str(), report.figure5.empty() ? "" : ",fig5.png",
+                 report.wall_seconds);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "deixis eval: %s\n", e.what());
+    return 2;
+  }
+}
+
+}  // namespace deixis::app

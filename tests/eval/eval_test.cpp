@@ -1,0 +1,269 @@
+// deixis eval (issue 8): the quick run writes well-formed tables; DIP through the evaluation's
+// own chain reads a fingertip offset by a known angle as that HE and VE to 0.01°; identical
+// motion gives FMD 0; a known hold pattern gives the expected MPJPE; training-subject data is
+// refused.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <random>
+
+#include "capture/generate.h"
+#include "eval/evaluation.h"
+#include "eval/perturbation.h"
+#include "eval/runs.h"
+#include "gesture/error.h"
+#include "gesture/io/safetensors.h"
+#include "test_support.h"
+
+namespace deixis::eval {
+namespace {
+
+namespace fs = std::filesystem;
+using deixis::testing::ScratchDir;
+
+float radians(double degrees) {
+  return static_cast<float>(degrees * std::numbers::pi / 180.0);
+}
+
+// Upright head at the root looking along +Z (network frame); the fingertip 0.54 m from the head
+// in the direction (yaw, pitch) through an identity hand frame.
+EndEffectors pointing(double yaw_deg, double pitch_deg) {
+  const float yaw = radians(yaw_deg), pitch = radians(pitch_deg);
+  const Vec3 dir(std::sin(yaw) * std::cos(pitch), std::sin(pitch), std::cos(yaw) * std::cos(pitch));
+  EndEffectors x{};
+  set_vec3(x, ee::kGaze, Vec3(0, 0, 1));
+  set_vec3(x, ee::kHeadForward, Vec3(0, 0, 1));
+  set_vec3(x, ee::kHeadUp, Vec3(0, 1, 0));
+  set_vec3(x, ee::kHandForward, Vec3(0, 0, 1));
+  set_vec3(x, ee::kHandUp, Vec3(0, 1, 0));
+  set_vec3(x, ee::kHandPosition, dir * 0.44f);
+  set_vec3(x, ee::kFingertip, dir * 0.10f);
+  return x;
+}
+
+AlignedPair pair_ending_in(const EndEffectors& last, std::size_t frames) {
+  AlignedPair pair;
+  pair.frames.resize(frames);
+  for (TranslationInput& f : pair.frames) {
+    f.user_x = pointing(0.0, 0.0);
+  }
+  pair.frames.back().user_x = last;
+  pair.avatar_target = Vec3(0.0f, 0.0f, 2.0f);  // straight ahead of H, 2 m
+  return pair;
+}
+
+TEST(EvalDip, AFingertipOffsetByAKnownAngleGivesThatHeAndVe) {
+  for (const auto& [yaw, pitch] : {std::pair{3.0, 0.0}, {0.0, 2.0}, {-4.5, 0.0}, {0.0, -1.25}}) {
+    const AlignedPair pair = pair_ending_in(pointing(yaw, pitch), 12);
+    const std::vector<EndEffectors> x = run_chain(Generator{}, pair, 1.0f, 1);  // copy-paste
+    ASSERT_EQ(x.size(), pair.frames.size());
+    const PointingError e = dip_pointing(x.back(), pair.avatar_target);
+    EXPECT_NEAR(e.horizontal_deg, std::abs(yaw), 0.01) << yaw << ", " << pitch;
+    EXPECT_NEAR(e.vertical_deg, std::abs(pitch), 0.01) << yaw << ", " << pitch;
+  }
+}
+
+TEST(EvalRobustness, AKnownHoldPatternGivesTheExpectedMpjpe) {
+  // The head slides 1 cm per frame along x; the hand stays. Each drop holds the frame before
+  // it, so the k-th held frame of a drop is k cm behind: MPJPE = Σ k / 2 / frames (head and
+  // hand averaged).
+  constexpr std::size_t kFrames = 150;
+  constexpr int kDrop = 6;
+  std::vector<TranslationInput> frames(kFrames);
+  for (std::size_t t = 0; t < kFrames; ++t) {
+    frames[t].user_x = pointing(0.0, 0.0);
+    set_vec3(frames[t].user_x, ee::kHeadPosition, Vec3(0.01f * static_cast<float>(t), 0, 0));
+    frames[t].user_features[0] = static_cast<float>(t);
+  }
+  const std::vector<TranslationInput> clean = frames;
+  std::mt19937_64 rng(7);
+  std::size_t held = 0;
+  // Draw until at least one drop happened away from frame 0 (its hold is frame 0 itself).
+  while (held == 0 || frames[0].user_features[0] != clean[0].user_features[0]) {
+    frames = clean;
+    held = apply_missed_tracking(frames, kDrop, rng);
+  }
+  double expected_cm = 0.0;
+  for (std::size_t start = 0; start < kFrames; start += 30) {
+    if (frames[start].user_features[0] == clean[start].user_features[0] && start != 0) {
+      continue;  // not dropped
+    }
+    const std::size_t hold = start == 0 ? 0 : start - 1;
+    for (std::size_t k = start; k < start + kDrop; ++k) {
+      if (start == 0 && frames[1].user_features[0] == 1.0f) {
+        break;  // frame 0 was not dropped
+      }
+      EXPECT_EQ(frames[k].user_features[0], static_cast<float>(hold)) << k;
+      expected_cm += static_cast<double>(k - hold) / 2.0;
+    }
+  }
+  const MotionDeviation d =
+      motion_deviation(run_chain(Generator{}, AlignedPair{clean, {}, {}, 0}, 1.0f, 1),
+                       run_chain(Generator{}, AlignedPair{frames, {}, {}, 0}, 1.0f, 1));
+  EXPECT_NEAR(d.position_cm, expected_cm / kFrames, 1e-4);
+  EXPECT_NEAR(d.rotation_deg, 0.0, 1e-6);
+}
+
+// A motion encoder with random weights: FMD's distance needs some map to codes, not a trained
+// one, to show that identical motion is at distance 0.
+void write_random_encoder(const fs::path& dir) {
+  std::mt19937 rng(3);
+  std::normal_distribution<float> n(0.0f, 0.05f);
+  const auto values = [&](std::size_t count) {
+    std::vector<float> v(count);
+    for (float& x : v) {
+      x = n(rng);
+    }
+    return v;
+  };
+  for (const char* hand : {"right", "left"}) {
+    SafetensorsWriter w;
+    w.add_f32("conv_encode1.weight", {256, 18, 15}, values(256 * 18 * 15));
+    w.add_f32("conv_encode1.bias", {256}, values(256));
+    w.add_f32("conv_encode2.weight", {128, 256, 16}, values(128 * 256 * 16));
+    w.add_f32("conv_encode2.bias", {128}, values(128));
+    fs::create_directories(dir / hand);
+    w.write(dir / hand / "AutoEncoder.safetensors");
+  }
+}
+
+// Tiny test sets of a right- and a left-handed subject, made once for the suite.
+class EvalRun : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    scratch_ = new ScratchDir();
+    capture::GenerateOptions g;
+    g.out_dir = scratch_->path() / "data";
+    g.sets = {"test"};
+    g.subjects = {"161", "173"};
+    g.count_scale = 0.05;
+    capture::generate_datasets(g, [](const std::string&, std::size_t, std::size_t, std::size_t) {});
+    write_random_encoder(scratch_->path() / "encoder");
+  }
+  static void TearDownTestSuite() {
+    delete scratch_;
+    scratch_ = nullptr;
+  }
+  static fs::path data() { return scratch_->path() / "data"; }
+  static fs::path encoder() { return scratch_->path() / "encoder"; }
+  static EvalOptions quick_options() {
+    EvalOptions o;
+    o.data_dir = data();
+    o.weights = {{"authors", deixis::testing::reference_dir() / "weights"}};
+    o.encoder_dir = encoder();
+    o.quick = true;
+    o.sampling = quick_sampling();
+    o.command = "eval_test";
+    return o;
+  }
+  static ScratchDir* scratch_;
+};
+ScratchDir* EvalRun::scratch_ = nullptr;
+
+TEST_F(EvalRun, IdenticalMotionGivesFmdZero) {
+  const TestSet set = TestSet::read(data() / "test_161.safetensors");
+  const nn::MotionEncoder enc =
+      nn::MotionEncoder::load(encoder() / "right/AutoEncoder.safetensors");
+  Sampling s = quick_sampling();
+  s.fmd_trials = 2;
+  const std::vector<double> fmd = run_fmd(Generator{}, enc, set, s);  // copy-paste = the user
+  ASSERT_EQ(fmd.size(), 2u);
+  for (const double v : fmd) {
+    EXPECT_NEAR(v, 0.0, 1e-6);
+  }
+}
+
+TEST_F(EvalRun, QuickRunWritesWellFormedTables) {
+  const Report report = evaluate(quick_options());
+  const nlohmann::json j = nlohmann::json::parse(json(report));
+  EXPECT_EQ(j["subjects"], nlohmann::json({"161", "173"}));
+  const std::map<std::string, std::vector<std::string>> expected = {
+      {"I", {"HE", "VE", "PE", "FMD"}},
+      {"II", {"parameters", "size", "inference"}},
+      {"III", {"MPE", "SS"}},
+      {"IV", {"HE", "VE", "PE", "HL", "VL", "PL", "FMD"}},
+      {"V", {"MPJPE", "MPJRE", "MPJLVE", "MPJAVE"}}};
+  ASSERT_EQ(j["tables"].size(), expected.size());
+  for (const auto& t : j["tables"]) {
+    const std::vector<std::string>& columns = expected.at(t["id"].get<std::string>());
+    ASSERT_EQ(t["columns"].size(), columns.size()) << t["id"];
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      EXPECT_EQ(t["columns"][c]["name"], columns[c]);
+    }
+    for (const auto& r : t["rows"]) {
+      ASSERT_EQ(r["mean"].size(), columns.size()) << r["label"];
+      for (const auto& [subject, values] : r["per_subject"].items()) {
+        ASSERT_EQ(values.size(), columns.size()) << r["label"] << " " << subject;
+        for (const auto& v : values) {
+          EXPECT_TRUE(v.is_null() || std::isfinite(v.get<double>())) << r["label"];
+        }
+      }
+    }
+  }
+  // Every expected row has its numbers.
+  const auto row = [&](const std::string& table, const std::string& label,
+                       const std::string& weights) {
+    for (const auto& t : j["tables"]) {
+      if (t["id"] == table) {
+        for (const auto& r : t["rows"]) {
+          if (r["label"] == label && r["weights"] == weights) {
+            return r;
+          }
+        }
+      }
+    }
+    ADD_FAILURE() << "no row " << label << " in table " << table;
+    return nlohmann::json();
+  };
+  for (const auto& v : row("I", "MoE (AC)", "authors")["mean"]) {
+    EXPECT_TRUE(v.is_number());
+  }
+  for (const char* label : {"MoE (DG)", "copy-paste"}) {
+    const std::string weights = std::string(label) == "copy-paste" ? "" : "authors";
+    for (const auto& v : row("I", label, weights)["mean"]) {
+      EXPECT_TRUE(v.is_number()) << label;
+    }
+  }
+  EXPECT_TRUE(row("I", "AMNet_DG", "")["mean"][0].is_null());
+  for (const char* label : {"MLP", "GRU-MoE", "Transformer"}) {
+    const auto r = row("III", label, "authors");
+    EXPECT_TRUE(r["mean"][0].is_number() && r["mean"][1].is_number()) << label;
+  }
+  for (const char* label : {"MLP", "MoE (AC)", "Diffusion", "Transformer"}) {
+    for (const auto& v : row("IV", label, "authors")["mean"]) {
+      EXPECT_TRUE(v.is_number()) << label;
+    }
+  }
+  EXPECT_TRUE(row("V", "MoE (AC), missed 1.0 s", "authors")["mean"][0].is_number());
+  ASSERT_EQ(j["figure5"].size(), 1u);
+  EXPECT_EQ(j["figure5"][0]["seconds"].size(), 5u);
+  EXPECT_NE(markdown(report).find("## Table IV."), std::string::npos);
+}
+
+TEST_F(EvalRun, RefusesTrainingSubjectData) {
+  ScratchDir dir;
+  capture::GenerateOptions g;
+  g.out_dir = dir.path();
+  g.sets = {"train"};
+  g.count_scale = 0.01;
+  capture::generate_datasets(g, [](const std::string&, std::size_t, std::size_t, std::size_t) {});
+  try {
+    TestSet::read(dir.path() / "train_right.safetensors");
+    ADD_FAILURE() << "training data was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("training subject"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("train_right.safetensors"), std::string::npos);
+  }
+  // Renamed as if it were a test set: still refused (the metadata names the subject).
+  fs::copy_file(dir.path() / "train_right.safetensors", dir.path() / "test_170.safetensors");
+  EvalOptions o = quick_options();
+  o.data_dir = dir.path();
+  o.subjects = {"170"};
+  EXPECT_THROW(evaluate(o), Error);
+}
+
+}  // namespace
+}  // namespace deixis::eval
