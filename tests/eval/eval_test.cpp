@@ -139,7 +139,7 @@ class EvalRun : public ::testing::Test {
     g.out_dir = scratch_->path() / "data";
     g.sets = {"test"};
     g.subjects = {"161", "173"};
-    g.count_scale = 0.05;
+    g.count_scale = 0.12;  // at least two sequences per category: DR needs a second target
     capture::generate_datasets(g, [](const std::string&, std::size_t, std::size_t, std::size_t) {});
     write_random_encoder(scratch_->path() / "encoder");
   }
@@ -177,6 +177,12 @@ TEST_F(EvalRun, IdenticalMotionGivesFmdZero) {
 }
 
 TEST_F(EvalRun, QuickRunWritesWellFormedTables) {
+#ifdef DEIXIS_SANITIZED
+  // Every network of every table over two subjects: 20 s in the release suite, which runs it,
+  // but over 6 minutes under ASan (the Transformer and Diffusion UGNets). The metrics and the
+  // run's pieces are covered here by the other tests.
+  GTEST_SKIP() << "the whole quick evaluation runs in the release suite (too slow under ASan)";
+#endif
   const Report report = evaluate(quick_options());
   const nlohmann::json j = nlohmann::json::parse(json(report));
   EXPECT_EQ(j["subjects"], nlohmann::json({"161", "173"}));
@@ -218,12 +224,16 @@ TEST_F(EvalRun, QuickRunWritesWellFormedTables) {
     ADD_FAILURE() << "no row " << label << " in table " << table;
     return nlohmann::json();
   };
-  for (const auto& v : row("I", "MoE (AC)", "authors")["mean"]) {
+  // Rows are copies: bind them before iterating (a range-for over a temporary's member would
+  // read freed memory).
+  const nlohmann::json moe = row("I", "MoE (AC)", "authors");
+  for (const auto& v : moe["mean"]) {
     EXPECT_TRUE(v.is_number());
   }
   for (const char* label : {"MoE (DG)", "copy-paste"}) {
     const std::string weights = std::string(label) == "copy-paste" ? "" : "authors";
-    for (const auto& v : row("I", label, weights)["mean"]) {
+    const nlohmann::json r = row("I", label, weights);
+    for (const auto& v : r["mean"]) {
       EXPECT_TRUE(v.is_number()) << label;
     }
   }
@@ -233,8 +243,9 @@ TEST_F(EvalRun, QuickRunWritesWellFormedTables) {
     EXPECT_TRUE(r["mean"][0].is_number() && r["mean"][1].is_number()) << label;
   }
   for (const char* label : {"MLP", "MoE (AC)", "Diffusion", "Transformer"}) {
-    for (const auto& v : row("IV", label, "authors")["mean"]) {
-      EXPECT_TRUE(v.is_number()) << label;
+    const nlohmann::json r = row("IV", label, "authors");
+    for (const auto& v : r["mean"]) {
+      EXPECT_TRUE(v.is_number()) << label << ": " << r.dump();
     }
   }
   EXPECT_TRUE(row("V", "MoE (AC), missed 1.0 s", "authors")["mean"][0].is_number());
