@@ -117,4 +117,17 @@ struct EvalOptions {
 };
 int run_eval(const EvalOptions& options);
 
+// `deixis xr`: the headset user's side through OpenXR (docs/xr.md). No networking yet: the
+// remote person is `remote_site`'s scripted virtual user, performed locally and translated into
+// `site`'s room. Exit 0 after the session ends, 1 when OpenXR fails or the session is lost, 2 for
+// bad files.
+struct XrRunOptions {
+  std::filesystem::path site;
+  std::filesystem::path remote_site;
+  double seconds = 0.0;  // 0: until the runtime ends the session
+  std::filesystem::path weights_dir;
+  bool headless = false;  // XR_MND_headless: no rendering (tests, runtimes without GL)
+};
+int run_xr(const XrRunOptions& options);
+
 }  // namespace deixis::app

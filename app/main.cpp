@@ -285,6 +285,40 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(5.0, 3600.0));
 
+  // `deixis xr` (docs/xr.md).
+  deixis::app::XrRunOptions xr;
+  xr.weights_dir = default_weights_dir();
+  xr.site = std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/sites/a.json";
+  xr.remote_site = std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/sites/b.json";
+  CLI::App* xr_cmd = app.add_subcommand(
+      "xr",
+      "The headset user's side through OpenXR (the runtime the loader finds, or XR_RUNTIME_JSON): "
+      "both eyes see this site's room and the remote person's avatar. No networking in this "
+      "version: the remote person is the other site's scripted virtual user, performed locally "
+      "and translated into this room (the translator and IK as in host/join). Prints the "
+      "runtime, then frames and tracking counts; exit 1 if OpenXR fails, 2 for bad flags or "
+      "files");
+  xr_cmd->add_option("--site", xr.site, "This site (the headset user's room)")
+      ->capture_default_str()
+      ->check(CLI::ExistingFile);
+  xr_cmd
+      ->add_option("--remote-site", xr.remote_site,
+                   "The other site, whose virtual_user plays the remote person")
+      ->capture_default_str()
+      ->check(CLI::ExistingFile);
+  xr_cmd
+      ->add_option("--seconds", xr.seconds,
+                   "Ask the runtime to end the session after this much display time (default: "
+                   "until the runtime ends it)")
+      ->check(CLI::Range(0.0, 3600.0));
+  xr_cmd
+      ->add_option("--weights-dir", xr.weights_dir,
+                   "Directory with right/ and left/ MoE weights (default: assets/weights, "
+                   "$DEIXIS_REFERENCE_DIR/weights or ../shared/reference/weights)")
+      ->check(CLI::ExistingDirectory);
+  xr_cmd->add_flag("--headless", xr.headless,
+                   "XR_MND_headless: a session without graphics (nothing is rendered)");
+
   // `deixis eval` (docs/eval.md).
   deixis::app::EvalOptions eval;
   eval.data_dir = std::filesystem::path(DEIXIS_SOURCE_DIR) / "out/data";
@@ -357,6 +391,9 @@ int main(int argc, char** argv) {
   }
   if (demo_cmd->parsed()) {
     return deixis::app::run_demo(demo);
+  }
+  if (xr_cmd->parsed()) {
+    return deixis::app::run_xr(xr);
   }
   if (eval_cmd->parsed()) {
     return deixis::app::run_eval(eval);

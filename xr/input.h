@@ -1,0 +1,74 @@
+#pragma once
+// What the headset tells about its user, as the TrackingFrame the rest of Deixis reads
+// (gesture/tracking.h): the head from the VIEW space, the eye gaze (XR_EXT_eye_gaze_interaction
+// where offered), and per hand the wrist and index fingertip from XR_EXT_hand_tracking's joints
+// where offered, else from the controllers' grip (wrist) and aim (fingertip) poses. A part the
+// runtime does not report as valid, or reports with a non-finite or non-unit value, is left out
+// of the frame's validity flags.
+//
+// Wrist frames (docs/decisions.md §7; XR_EXT_hand_tracking joints: −Z towards the fingertips, +Y
+// the back of the hand, +X = Y × Z): right hand Deixis x, y, z = joint −Z, +Y, +X; left hand
+// +Z, +Y, −X.
+
+#include <openxr/openxr.h>
+
+#include <array>
+#include <optional>
+
+#include "gesture/tracking.h"
+#include "xr/gl_session.h"
+#include "xr/instance.h"
+
+namespace deixis::xr {
+
+// An OpenXR pose as a Deixis pose; empty when any component is not finite or the quaternion is
+// far from unit length.
+std::optional<Pose> to_pose(const XrPosef& pose);
+// A hand joint's (or grip's) frame as the Deixis wrist frame of that hand.
+Pose wrist_from_joint(const Pose& T_world_joint, Hand hand);
+// Both position and orientation flagged valid.
+bool pose_valid(XrSpaceLocationFlags flags);
+
+class Input {
+ public:
+  // Creates the pose actions (gaze, grip, aim), suggests bindings for
+  // /interaction_profiles/khr/simple_controller and ext/eye_gaze_interaction, attaches them, and
+  // creates a hand tracker per hand where hand tracking is supported. Throws deixis::Error.
+  Input(const Instance& instance, const GlSession& session);
+  ~Input();
+  Input(const Input&) = delete;
+  Input& operator=(const Input&) = delete;
+
+  // xrSyncActions: once per frame, only with input focus (xr/session_state.h syncs_actions).
+  void sync();
+  // The user at display time `time`, stamped `clock` (s). Allocates nothing.
+  TrackingFrame locate(XrTime time, double clock);
+
+  bool hand_tracking() const { return hand_trackers_[0] != XR_NULL_HANDLE; }
+  bool eye_gaze() const { return gaze_action_ != XR_NULL_HANDLE; }
+
+ private:
+  bool locate_hand_joints(Hand hand, XrTime time, TrackingFrame& frame);
+  bool locate_controller(Hand hand, XrTime time, TrackingFrame& frame);
+  bool locate_space(XrSpace space, XrTime time, Pose& out) const;
+
+  XrInstance instance_;
+  XrSession session_;
+  XrSpace stage_;
+  XrSpace view_;
+  XrActionSet set_ = XR_NULL_HANDLE;
+  XrAction gaze_action_ = XR_NULL_HANDLE;
+  XrAction grip_action_ = XR_NULL_HANDLE;
+  XrAction aim_action_ = XR_NULL_HANDLE;
+  std::array<XrPath, 2> hand_paths_{};  // by Hand
+  XrSpace gaze_space_ = XR_NULL_HANDLE;
+  std::array<XrSpace, 2> grip_spaces_{};
+  std::array<XrSpace, 2> aim_spaces_{};
+  std::array<XrHandTrackerEXT, 2> hand_trackers_{};
+  PFN_xrLocateHandJointsEXT locate_joints_ = nullptr;
+  PFN_xrDestroyHandTrackerEXT destroy_tracker_ = nullptr;
+  std::array<XrHandJointLocationEXT, XR_HAND_JOINT_COUNT_EXT> joints_{};
+  bool synced_ = false;
+};
+
+}  // namespace deixis::xr
