@@ -14,6 +14,7 @@
 
 #include "app/commands.h"
 #include "app/deictic_observer.h"
+#include "app/moe_weights.h"
 #include "app/pose_copy.h"
 #include "app/site_report.h"
 #include "app/site_session.h"
@@ -35,22 +36,7 @@ constexpr double kTick = 1.0 / 30.0;           // s: tracking and translation (D
 constexpr std::size_t kMaxCompletions = 1024;  // remote completion states kept per run
 constexpr float kRayShownAbove = 0.5f;         // deictic progression above which rays show
 
-struct Networks {
-  nn::Mpnet mpnet;
-  nn::Ugnet ugnet;
-};
-
-Networks load_networks(const fs::path& weights_dir, Hand hand) {
-  const fs::path dir = weights_dir / (hand == Hand::kLeft ? "left" : "right");
-  for (const char* name : {"MPNet(MoE)(AC)80.safetensors", "UGNet(MoE)(AC)120.safetensors"}) {
-    if (!fs::is_regular_file(dir / name)) {
-      throw Error((dir / name).string() +
-                  ": no such weights file (--weights-dir, or set DEIXIS_REFERENCE_DIR)");
-    }
-  }
-  return {nn::Mpnet::load(dir / "MPNet(MoE)(AC)80.safetensors"),
-          nn::Ugnet::load(dir / "UGNet(MoE)(AC)120.safetensors")};
-}
+using Networks = MoeNetworks;
 
 // Everything a site reads and computes before it connects. Any error here is a bad input.
 struct SiteAssets {
@@ -72,8 +58,8 @@ SiteAssets load_site(const SiteRunOptions& o) {
   }
   avatar::Avatar avatar = avatar::load_avatar(site.avatar_path);
   ik::AvatarSolver solver = ik::AvatarSolver::build(avatar.rig);
-  std::array<Networks, 2> networks = {load_networks(o.weights_dir, Hand::kLeft),
-                                      load_networks(o.weights_dir, Hand::kRight)};
+  std::array<Networks, 2> networks = {load_moe_networks(o.weights_dir, Hand::kLeft),
+                                      load_moe_networks(o.weights_dir, Hand::kRight)};
   const Pose user_origin = presence::avatar_origin(solver, site.user.T_world_floor());
   const Pose remote_origin = presence::avatar_origin(solver, site.remote_avatar.T_world_floor());
   const capture::VirtualUserScene scene{site.user.T_world_floor(), site.target_map.objects,

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/moe_weights.h"
 #include "app/site_config.h"
 #include "avatar/avatar_loader.h"
 #include "capture/subject.h"
@@ -34,22 +35,7 @@ namespace fs = std::filesystem;
 
 constexpr double kTick = 1.0 / 30.0;  // s: translation rate (DESIGN §3)
 
-struct Networks {
-  nn::Mpnet mpnet;
-  nn::Ugnet ugnet;
-};
-
-Networks load_networks(const fs::path& weights_dir, Hand hand) {
-  const fs::path dir = weights_dir / (hand == Hand::kLeft ? "left" : "right");
-  for (const char* name : {"MPNet(MoE)(AC)80.safetensors", "UGNet(MoE)(AC)120.safetensors"}) {
-    if (!fs::is_regular_file(dir / name)) {
-      throw Error((dir / name).string() +
-                  ": no such weights file (--weights-dir, or set DEIXIS_REFERENCE_DIR)");
-    }
-  }
-  return {nn::Mpnet::load(dir / "MPNet(MoE)(AC)80.safetensors"),
-          nn::Ugnet::load(dir / "UGNet(MoE)(AC)120.safetensors")};
-}
+using Networks = MoeNetworks;
 
 // The remote person: the other site's virtual user performed in their room.
 capture::ScriptPerformance perform_remote(const SiteConfig& remote, const ik::AvatarSolver& solver,
@@ -153,7 +139,7 @@ int run_xr(const XrRunOptions& o) {
     avatar = avatar::load_avatar(site->avatar_path);
     solver = ik::AvatarSolver::build(avatar->rig);
     remote = perform_remote(*remote_site, *solver, o.remote_site, o.seconds);
-    networks = load_networks(o.weights_dir, remote->sequence.calibration.deictic_hand);
+    networks = load_moe_networks(o.weights_dir, remote->sequence.calibration.deictic_hand);
   } catch (const Error& e) {
     std::fprintf(stderr, "deixis xr: %s\n", e.what());
     return 2;
