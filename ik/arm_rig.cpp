@@ -5,6 +5,8 @@
 
 #include "gesture/error.h"
 #include "ik/rotations.h"
+#include "ik/two_bone_job.h"
+#include "ik/wrist_job.h"
 
 namespace deixis::ik {
 namespace {
@@ -111,6 +113,40 @@ ArmRig make_arm_rig(const HumanoidRig& rig, std::span<const Pose> rest_model, Ha
   arm.forearm_twist = side == Hand::kRight ? HingeRange{-limits.pronation, limits.supination}
                                            : HingeRange{-limits.supination, limits.pronation};
   return arm;
+}
+
+void bend_arm_and_turn_hand(const Skeleton& skeleton, const ArmRig& a, const IkLimits& limits,
+                            const Vec3& wrist_target, const Vec3& pole, const Mat3& R_model_hand,
+                            std::span<Pose> local, std::span<Pose> model) {
+  Mat3 start_correction;
+  Mat3 mid_correction;
+  TwoBoneJob two_bone;
+  two_bone.start_joint = &model[a.upper];
+  two_bone.mid_joint = &model[a.lower];
+  two_bone.end_joint = &model[a.hand];
+  two_bone.target = wrist_target;
+  two_bone.pole_vector = pole;
+  two_bone.mid_axis = a.mid_axis;
+  two_bone.flexion = limits.elbow;
+  two_bone.start_correction = &start_correction;
+  two_bone.mid_correction = &mid_correction;
+  two_bone.run();
+  local[a.upper].rotation = local[a.upper].rotation * start_correction;
+  local[a.lower].rotation = local[a.lower].rotation * mid_correction;
+  update_model_path(skeleton, local, model, a.upper, a.hand);
+
+  WristJob wrist;
+  wrist.skeleton = &skeleton;
+  wrist.forearm = a.lower;
+  wrist.hand = a.hand;
+  wrist.forearm_axis = a.forearm_axis;
+  wrist.twist = a.forearm_twist;
+  wrist.swing_max = limits.wrist_swing;
+  wrist.hand_twist_max = limits.wrist_twist;
+  wrist.target = R_model_hand;
+  wrist.local = local;
+  wrist.model = model;
+  wrist.run();
 }
 
 }  // namespace deixis::ik

@@ -41,4 +41,12 @@ struct ArmRig {
 ArmRig make_arm_rig(const HumanoidRig& rig, std::span<const Pose> rest_model, Hand side,
                     const IkLimits& limits);
 
+// The arm's two bones bent so the wrist reaches `wrist_target` (model space; the caller has
+// softened it already) with the elbow toward `pole`, then the hand turned toward `R_model_hand`
+// within the wrist's limits. Rewrites the upper, lower and hand joints' local rotations and
+// updates `model` from the upper arm to the hand. Shared by both arm jobs; allocates nothing.
+void bend_arm_and_turn_hand(const Skeleton& skeleton, const ArmRig& arm, const IkLimits& limits,
+                            const Vec3& wrist_target, const Vec3& pole, const Mat3& R_model_hand,
+                            std::span<Pose> local, std::span<Pose> model);
+
 }  // namespace deixis::ik

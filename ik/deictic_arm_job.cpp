@@ -7,8 +7,7 @@
 #include "ik/index_finger_job.h"
 #include "ik/job_validation.h"
 #include "ik/rotations.h"
-#include "ik/two_bone_job.h"
-#include "ik/wrist_job.h"
+#include "ik/two_bone_job.h"  // reach_of, soft_reach
 
 namespace deixis::ik {
 namespace {
@@ -168,35 +167,7 @@ bool DeicticArmJob::run() const {
       const Placement place = place_wrist(S, target, wanted, c, reach, soft_start, rest_direction);
       out.beyond_reach = place.beyond_reach;
 
-      Mat3 start_correction;
-      Mat3 mid_correction;
-      TwoBoneJob two_bone;
-      two_bone.start_joint = &model[a.upper];
-      two_bone.mid_joint = &model[a.lower];
-      two_bone.end_joint = &model[a.hand];
-      two_bone.target = place.wrist;
-      two_bone.pole_vector = pole_m;
-      two_bone.mid_axis = a.mid_axis;
-      two_bone.flexion = limits->elbow;
-      two_bone.start_correction = &start_correction;
-      two_bone.mid_correction = &mid_correction;
-      two_bone.run();
-      local[a.upper].rotation = local[a.upper].rotation * start_correction;
-      local[a.lower].rotation = local[a.lower].rotation * mid_correction;
-      update_model_path(*skeleton, local, model, a.upper, a.hand);
-
-      WristJob wrist;
-      wrist.skeleton = skeleton;
-      wrist.forearm = a.lower;
-      wrist.hand = a.hand;
-      wrist.forearm_axis = a.forearm_axis;
-      wrist.twist = a.forearm_twist;
-      wrist.swing_max = limits->wrist_swing;
-      wrist.hand_twist_max = limits->wrist_twist;
-      wrist.target = place.hand;
-      wrist.local = local;
-      wrist.model = model;
-      wrist.run();
+      bend_arm_and_turn_hand(*skeleton, a, *limits, place.wrist, pole_m, place.hand, local, model);
       const Mat3& achieved = model[a.hand].rotation;
       if (rotation_angle(achieved * place.hand.transpose()) < 1e-4f) {
         break;

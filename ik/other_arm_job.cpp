@@ -6,8 +6,7 @@
 
 #include "ik/job_validation.h"
 #include "ik/rotations.h"
-#include "ik/two_bone_job.h"
-#include "ik/wrist_job.h"
+#include "ik/two_bone_job.h"  // reach_of, soft_reach
 
 namespace deixis::ik {
 namespace {
@@ -157,35 +156,10 @@ bool OtherArmJob::run() const {
   }
 
   const Vec3 pole_m = pole.allFinite() && pole.norm() > kTinyLength ? pole : a.pole;
-  Mat3 start_correction;
-  Mat3 mid_correction;
-  TwoBoneJob two_bone;
-  two_bone.start_joint = &model[a.upper];
-  two_bone.mid_joint = &model[a.lower];
-  two_bone.end_joint = &model[a.hand];
-  two_bone.target = goal;
-  two_bone.pole_vector = pole_m;
-  two_bone.mid_axis = a.mid_axis;
-  two_bone.flexion = limits->elbow;  // the goal is already softened
-  two_bone.start_correction = &start_correction;
-  two_bone.mid_correction = &mid_correction;
-  two_bone.run();
-  local[a.upper].rotation = local[a.upper].rotation * start_correction;
-  local[a.lower].rotation = local[a.lower].rotation * mid_correction;
-  update_model_path(*skeleton, local, model, a.upper, a.hand);
-
-  WristJob wrist;
-  wrist.skeleton = skeleton;
-  wrist.forearm = a.lower;
-  wrist.hand = a.hand;
-  wrist.forearm_axis = a.forearm_axis;
-  wrist.twist = a.forearm_twist;
-  wrist.swing_max = limits->wrist_swing;
-  wrist.hand_twist_max = limits->wrist_twist;
-  wrist.target = orthonormalized(target.R_root_wrist) * a.R_hand_wrist.transpose();
-  wrist.local = local;
-  wrist.model = model;
-  wrist.run();
+  // The goal is already softened (the two-bone job itself runs without softening).
+  bend_arm_and_turn_hand(*skeleton, a, *limits, goal, pole_m,
+                         orthonormalized(target.R_root_wrist) * a.R_hand_wrist.transpose(), local,
+                         model);
   update_model_path(*skeleton, local, model, a.hand, a.tip_joint());
 
   out.wrist_target = goal;
