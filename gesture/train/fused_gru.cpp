@@ -51,6 +51,7 @@ struct GruLayerFunction : public torch::autograd::Function<GruLayerFunction> {
     torch::Tensor saved = torch::empty({time, batch, 4 * hidden}, x.options());
     const ConstMatrixMap whh = map(w_hh, gates, hidden);
     const Eigen::Map<const Eigen::RowVectorXf> bhh(b_hh.data_ptr<float>(), gates);
+    // The gates go straight into their saved slots: nothing is allocated per time step.
     RowMatrix h = RowMatrix::Zero(batch, hidden);
     RowMatrix gh(batch, gates);
     for (Eigen::Index t = 0; t < time; ++t) {
@@ -58,20 +59,18 @@ struct GruLayerFunction : public torch::autograd::Function<GruLayerFunction> {
       gh.rowwise() += bhh;
       const ConstStrided xi_t(xi.data_ptr<float>() + t * gates, batch, gates,
                               Eigen::OuterStride<>(time * gates));
-      const Eigen::ArrayXXf r =
-          Eigen::logistic(xi_t.leftCols(hidden).array() + gh.leftCols(hidden).array());
-      const Eigen::ArrayXXf z = Eigen::logistic(xi_t.middleCols(hidden, hidden).array() +
-                                                gh.middleCols(hidden, hidden).array());
-      const Eigen::ArrayXXf n =
-          (xi_t.rightCols(hidden).array() + r * gh.rightCols(hidden).array()).tanh();
-      h = ((1.0f - z) * n + z * h.array()).matrix();
+      MatrixMap s(saved.data_ptr<float>() + t * batch * 4 * hidden, batch, 4 * hidden);
+      auto r = s.middleCols(kR * hidden, hidden).array();
+      auto z = s.middleCols(kZ * hidden, hidden).array();
+      auto n = s.middleCols(kN * hidden, hidden).array();
+      r = Eigen::logistic(xi_t.leftCols(hidden).array() + gh.leftCols(hidden).array());
+      z = Eigen::logistic(xi_t.middleCols(hidden, hidden).array() +
+                          gh.middleCols(hidden, hidden).array());
+      n = (xi_t.rightCols(hidden).array() + r * gh.rightCols(hidden).array()).tanh();
+      s.middleCols(kHn * hidden, hidden) = gh.rightCols(hidden);
+      h.array() = (1.0f - z) * n + z * h.array();
       Strided(out.data_ptr<float>() + t * hidden, batch, hidden,
               Eigen::OuterStride<>(time * hidden)) = h;
-      MatrixMap s(saved.data_ptr<float>() + t * batch * 4 * hidden, batch, 4 * hidden);
-      s.middleCols(kR * hidden, hidden) = r.matrix();
-      s.middleCols(kZ * hidden, hidden) = z.matrix();
-      s.middleCols(kN * hidden, hidden) = n.matrix();
-      s.middleCols(kHn * hidden, hidden) = gh.rightCols(hidden);
     }
     ctx->save_for_backward({x, w_ih, w_hh, out, saved});
     return out;
@@ -115,19 +114,18 @@ struct GruLayerFunction : public torch::autograd::Function<GruLayerFunction> {
       const auto n = s.middleCols(kN * hidden, hidden).array();
       const auto hn = s.middleCols(kHn * hidden, hidden).array();
 
-      // h = (1 − z)·n + z·h_prev
-      const Eigen::ArrayXXf da_n = dh.array() * (1.0f - z) * (1.0f - n * n);  // through tanh
-      const Eigen::ArrayXXf da_z = dh.array() * (h_prev.array() - n) * z * (1.0f - z);
-      const Eigen::ArrayXXf da_r = da_n * hn * r * (1.0f - r);
-      dgh.leftCols(hidden) = da_r.matrix();
-      dgh.middleCols(hidden, hidden) = da_z.matrix();
-      dgh.rightCols(hidden) = (da_n * r).matrix();
-
+      // h = (1 − z)·n + z·h_prev. The three gate gradients are written into dgh's columns
+      // (r, z, and n·r for the recurrent product) and d_xi's (r, z, n), no temporaries.
+      auto da_r = dgh.leftCols(hidden).array();
+      auto da_z = dgh.middleCols(hidden, hidden).array();
+      auto da_n = dgh.rightCols(hidden).array();
+      da_n = dh.array() * (1.0f - z) * (1.0f - n * n);  // through tanh
+      da_z = dh.array() * (h_prev.array() - n) * z * (1.0f - z);
+      da_r = da_n * hn * r * (1.0f - r);
       Strided dxi_t(d_xi.data_ptr<float>() + t * gates, batch, gates,
                     Eigen::OuterStride<>(time * gates));
-      dxi_t.leftCols(hidden) = da_r.matrix();
-      dxi_t.middleCols(hidden, hidden) = da_z.matrix();
-      dxi_t.rightCols(hidden) = da_n.matrix();
+      dxi_t = dgh;
+      dgh.rightCols(hidden).array() *= r;
 
       dwhh.noalias() += dgh.transpose() * h_prev;
       dbhh += dgh.colwise().sum();

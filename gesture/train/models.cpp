@@ -14,6 +14,7 @@
 
 #include "gesture/error.h"
 #include "gesture/train/forward.h"
+#include "gesture/train/fused_experts.h"
 #include "gesture/train/fused_gru.h"
 
 namespace deixis::train {
@@ -46,18 +47,11 @@ class ExpertLayers : public torch::nn::Module {
   }
 
   // The authors blend each layer's weights with ω and then multiply, x·Σ_e ω_e W_e + Σ_e ω_e b_e.
-  // Multiplying by every expert and blending the products is the same function (Σω = 1 is not
-  // even needed: it is linear in W) and the same gradients, without a [batch, in, out] weight
-  // per sample: 9 small GEMMs per layer (docs/decisions.md 2).
-  torch::Tensor forward(torch::Tensor x, const torch::Tensor& omega) {
-    const torch::Tensor omega_e = omega.t().unsqueeze(2);  // [experts, batch, 1]
-    for (int l = 0; l < 3; ++l) {
-      x = (torch::matmul(x.unsqueeze(0), w_[l]) * omega_e).sum(0) + torch::matmul(omega, b_[l]);
-      if (l < 2) {
-        x = torch::elu(x);
-      }
-    }
-    return x;
+  // Multiplying by every expert and blending the products is the same function (it is linear in
+  // W) and the same gradients, without a [batch, in, out] weight per sample: 9 small GEMMs per
+  // layer (docs/decisions.md 2), in one autograd node (fused_experts.h).
+  torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& omega) {
+    return expert_layers(x, omega, w_, b_);
   }
 
  private:
