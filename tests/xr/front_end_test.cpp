@@ -19,16 +19,12 @@
 
 #include "render/headless_context.h"
 #include "render/renderer.h"
+#include "tests/xr/xr_fixture.h"
 #include "xr/frame_loop.h"
 #include "xr/gl_session.h"
 #include "xr/input.h"
 #include "xr/instance.h"
 #include "xr/swapchains.h"
-
-// Debian 12's OpenXR loader keeps ~1.5 KB per instance (docs/decisions.md §40).
-extern "C" const char* __lsan_default_suppressions() {
-  return "leak:libopenxr_loader.so\n";
-}
 
 namespace deixis::xr {
 namespace {
@@ -46,21 +42,12 @@ float angle_between(const Vec3& a, const Vec3& b) {
 const Quat kRightWrist =
     Quat(Eigen::AngleAxisf(30 * kDeg, Vec3::UnitY()) * Eigen::AngleAxisf(20 * kDeg, Vec3::UnitX()));
 
-class FrontEnd : public ::testing::Test {
+class FrontEnd : public XrRuntimeTest {
  protected:
+  FrontEnd() : XrRuntimeTest("deixis_xr_front_") {}
+
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("deixis_xr_front_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    setenv("XR_RUNTIME_JSON", DEIXIS_XR_RUNTIME_JSON, 1);
-    setenv("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation", 1);
-    setenv("XR_API_LAYER_PATH", "/usr/share/openxr/1/api_layers/explicit.d", 1);
-    setenv("XR_CORE_VALIDATION_EXPORT_TYPE", "text", 1);
-    setenv("XR_CORE_VALIDATION_FILE_NAME", (dir_ / "validation.txt").c_str(), 1);
-    setenv("DEIXIS_XR_RECORD", (dir_ / "record.json").c_str(), 1);
-    unsetenv("DEIXIS_XR_HIDE_EXTENSIONS");
+    XrRuntimeTest::SetUp();
     nlohmann::json wrist = {
         {"position", {0.2, 1.1, -0.3}},
         {"orientation", {kRightWrist.x(), kRightWrist.y(), kRightWrist.z(), kRightWrist.w()}}};
@@ -73,24 +60,8 @@ class FrontEnd : public ::testing::Test {
            {"gaze", {0, -0.2, -1}},
            {"right", {{"wrist", wrist}, {"index_tip", {0.15, 1.05, -0.48}}}},
            {"left", nullptr}}}}};
-    std::ofstream(dir_ / "script.json") << script.dump();
-    setenv("DEIXIS_XR_SCRIPT", (dir_ / "script.json").c_str(), 1);
+    write_script(script.dump());
   }
-
-  nlohmann::json record() const {
-    std::ifstream in(dir_ / "record.json");
-    EXPECT_TRUE(in) << "the runtime wrote no record";
-    return in ? nlohmann::json::parse(in) : nlohmann::json();
-  }
-
-  std::string validation_messages() const {
-    std::ifstream in(dir_ / "validation.txt");
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
-
-  fs::path dir_;
 };
 
 // Keeps what the loop hands it; renders every view with the real renderer.

@@ -16,15 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/xr/xr_fixture.h"
 #include "xr/session_state.h"
-
-// LeakSanitizer (ASan build): Debian 12's OpenXR loader (libopenxr_loader.so.1) keeps about
-// 1.5 KB it allocates in xrCreateInstance after a successful xrDestroyInstance, once per
-// instance. The allocations are the loader's own; suppressing by module keeps every leak in
-// Deixis or its test runtime reported (docs/decisions.md §40).
-extern "C" const char* __lsan_default_suppressions() {
-  return "leak:libopenxr_loader.so\n";
-}
 
 namespace deixis::xr {
 namespace {
@@ -56,24 +49,15 @@ T make(XrStructureType type) {
     ASSERT_TRUE(XR_SUCCEEDED(r_)) << #call << " failed: " << name(r_); \
   } while (false)
 
-class TestRuntime : public ::testing::Test {
+class TestRuntime : public XrRuntimeTest {
  protected:
+  TestRuntime() : XrRuntimeTest("deixis_xr_") {}
+
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("deixis_xr_" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    setenv("XR_RUNTIME_JSON", DEIXIS_XR_RUNTIME_JSON, 1);
-    setenv("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation", 1);
-    setenv("XR_API_LAYER_PATH", "/usr/share/openxr/1/api_layers/explicit.d", 1);
-    setenv("XR_CORE_VALIDATION_EXPORT_TYPE", "text", 1);
-    setenv("XR_CORE_VALIDATION_FILE_NAME", (dir_ / "validation.txt").c_str(), 1);
-    setenv("DEIXIS_XR_RECORD", (dir_ / "record.json").c_str(), 1);
-    std::ofstream(dir_ / "script.json") << R"({"display_hz": 90, "frames": 12, "keys": [
+    XrRuntimeTest::SetUp();
+    write_script(R"({"display_hz": 90, "frames": 12, "keys": [
       {"t": 0, "head": {"position": [0, 1.6, 0]}},
-      {"t": 1, "head": {"position": [0.1, 1.6, 0]}, "gaze": [0, -0.2, -1]}]})";
-    setenv("DEIXIS_XR_SCRIPT", (dir_ / "script.json").c_str(), 1);
+      {"t": 1, "head": {"position": [0.1, 1.6, 0]}, "gaze": [0, -0.2, -1]}]})");
   }
 
   void create_headless() {
@@ -110,23 +94,6 @@ class TestRuntime : public ::testing::Test {
 
   void TearDown() override { destroy(); }
 
-  nlohmann::json record() const {
-    std::ifstream in(dir_ / "record.json");
-    EXPECT_TRUE(in) << "the runtime wrote no record";
-    return in ? nlohmann::json::parse(in) : nlohmann::json();
-  }
-
-  std::string validation_errors() const {
-    std::ifstream in(dir_ / "validation.txt");
-    std::stringstream s;
-    s << in.rdbuf();
-    const std::string text = s.str();
-    return text.find("Error") != std::string::npos || text.find("VUID") != std::string::npos
-               ? text
-               : std::string();
-  }
-
-  fs::path dir_;
   XrInstance instance_ = XR_NULL_HANDLE;
   XrSystemId system_ = XR_NULL_SYSTEM_ID;
   XrSession session_ = XR_NULL_HANDLE;
