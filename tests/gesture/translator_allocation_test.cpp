@@ -1,8 +1,10 @@
-// A translator tick allocates nothing: features, MPNet, blend, UGNet, decode, missed tracking.
+// A translator tick allocates nothing: features, MPNet, blend, UGNet, decode, missed tracking;
+// nor does the sender's target selection.
 
 #include <gtest/gtest.h>
 
 #include "allocation_counter.h"
+#include "gesture/target_selection.h"
 #include "gesture/translator.h"
 #include "test_support.h"
 #include "tracking_frames.h"
@@ -42,6 +44,31 @@ TEST(HotPath, TranslatorTicksAllocateNothing) {
     EXPECT_EQ(counter.count(), 0u) << ugnet;
     EXPECT_TRUE(std::isfinite(sink));
   }
+}
+
+TEST(HotPath, TargetSelectionAllocatesNothing) {
+  testing::StandingPerson person(Hand::kRight, 1.75f);
+  TargetMap room;
+  for (int i = 0; i < 8; ++i) {
+    room.objects.push_back({i + 1, "Box", i % 2 == 0 ? TargetKind::kBox : TargetKind::kSphere,
+                            Vec3(0.3f * static_cast<float>(i) - 1.0f, 1.0f, -1.5f),
+                            Vec3(0.2f, 0.2f, 0.2f)});
+  }
+  TargetSelector selector;
+  TrackingFrame frame = person.frame;
+  int changes = 0;
+  testing::AllocationCounter counter;
+  for (int i = 0; i < 1000; ++i) {
+    // Sweep the gaze and the fingertip across the objects.
+    const float x = 0.003f * static_cast<float>(i % 800) - 1.2f;
+    frame.gaze = (Vec3(x, 1.0f, -1.5f) - frame.T_world_head.translation).normalized();
+    frame.index_tip[index(Hand::kRight)] = Vec3(-x, 1.2f, -0.5f);
+    const TargetId before = selector.head_target;
+    selector.select(frame, room, Vec3(1, 1.6f, 0));
+    changes += selector.head_target != before ? 1 : 0;
+  }
+  EXPECT_EQ(counter.count(), 0u);
+  EXPECT_GT(changes, 4);  // the sweep really moved the selection
 }
 
 }  // namespace

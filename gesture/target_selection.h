@@ -1,0 +1,45 @@
+#pragma once
+// Which object a tracked person looks at and which one their hand designates (the sender's side;
+// paper §I: "identifying the target object of upper-body gestures is essential", which the
+// authors predefined by hand). The synthetic capture and the simulator know their targets; a
+// headset user does not, so `deixis xr` selects them from the tracking, tick by tick
+// (docs/decisions.md 44):
+//
+// - Head target: the candidate nearest in angle to the gaze ray (the head's −Z when gaze is not
+//   tracked), when within `acquire_deg` of it.
+// - Hand target: the candidate nearest in angle to the eye–fingertip ray (H → I, the ray people
+//   aim along when pointing), or one whose surface the fingertip is within `touch_m` of, when
+//   within `acquire_deg`. Otherwise the hand target follows the head target: people look at
+//   what they are about to point at, so when the hand starts to rise the target is already the
+//   one the gesture will end on (MPNet reads the angles to the target from the first frame of the
+//   window).
+// - Hysteresis: a new candidate replaces the current one only when it is nearer by
+//   `switch_margin_deg`, so two objects close together do not make the target flicker.
+// - Candidates: the room's objects and the other person (kPartnerTarget) at their head.
+//
+// Nothing is allocated; state is the current pair of targets.
+
+#include "gesture/target_map.h"
+#include "gesture/tracking.h"
+
+namespace deixis {
+
+struct TargetSelectionConfig {
+  Hand deictic_hand = Hand::kRight;
+  float acquire_deg = 12.0f;
+  float switch_margin_deg = 2.0f;
+  float touch_m = 0.08f;
+};
+
+struct TargetSelector {
+  TargetSelectionConfig config;
+  TargetId head_target = kPartnerTarget;
+  TargetId hand_target = kPartnerTarget;
+
+  // Fills frame.head_target, hand_target and their positions from the frame's head, gaze and
+  // deictic hand, this room's objects and where the other person's head is. Untracked parts keep
+  // their previous targets.
+  void select(TrackingFrame& frame, const TargetMap& room, const Vec3& partner_head);
+};
+
+}  // namespace deixis

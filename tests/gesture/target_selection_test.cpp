@@ -1,0 +1,166 @@
+// Target selection for tracked users (gesture/target_selection.h): the gaze picks the head
+// target, the eye–fingertip ray or a touch picks the hand target, the hand follows the eyes while
+// it designates nothing, hysteresis keeps close objects from flickering, and untracked parts keep
+// their targets.
+
+#include "gesture/target_selection.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace deixis {
+namespace {
+
+constexpr float kDeg = 3.14159265f / 180.0f;
+const Vec3 kHead(0.0f, 1.6f, 0.0f);
+
+// A direction `azimuth` degrees to the left of −Z and `elevation` up.
+Vec3 direction(float azimuth, float elevation) {
+  return Vec3(-std::sin(azimuth * kDeg) * std::cos(elevation * kDeg), std::sin(elevation * kDeg),
+              -std::cos(azimuth * kDeg) * std::cos(elevation * kDeg));
+}
+
+TargetObject sphere(TargetId id, const Vec3& position) {
+  TargetObject o;
+  o.id = id;
+  o.name = std::to_string(id);
+  o.position = position;
+  o.size = Vec3::Constant(0.1f);
+  return o;
+}
+
+// Three objects 2 m from the head at 30° to the left, straight ahead and 30° to the right,
+// all 10° below eye level; the other person 60° to the right.
+struct Room {
+  TargetMap map;
+  Vec3 partner = kHead + 2.0f * direction(-60, 0);
+  Room() {
+    map.site.assign(1, 'A');  // not = "A": GCC 12 -O3 reports a false -Wrestrict there
+    map.objects = {sphere(1, kHead + 2.0f * direction(30, -10)),
+                   sphere(2, kHead + 2.0f * direction(0, -10)),
+                   sphere(3, kHead + 2.0f * direction(-30, -10))};
+  }
+};
+
+// The user looking along `gaze`, the right index fingertip at `tip`, hand at rest when null.
+TrackingFrame user(const Vec3& gaze, const Vec3* tip = nullptr) {
+  TrackingFrame f;
+  f.T_world_head = Pose{Mat3::Identity(), kHead};
+  f.gaze = gaze.normalized();
+  f.index_tip[index(Hand::kRight)] = tip != nullptr ? *tip : Vec3(0.2f, 0.85f, 0.0f);
+  f.valid = tracked::kAll;
+  return f;
+}
+
+TEST(TargetSelection, GazePicksTheHeadTargetAndTheRestingHandFollowsIt) {
+  const Room room;
+  TargetSelector selector;
+  TrackingFrame f = user(direction(29, -9));
+  selector.select(f, room.map, room.partner);
+  EXPECT_EQ(f.head_target, 1);
+  EXPECT_EQ(f.hand_target, 1);  // the hand hangs down: it designates nothing yet
+  EXPECT_TRUE(f.head_target_position.isApprox(room.map.objects[0].position));
+  EXPECT_TRUE(f.hand_target_position.isApprox(room.map.objects[0].position));
+}
+
+TEST(TargetSelection, TheEyeFingertipRayPicksTheHandTarget) {
+  const Room room;
+  TargetSelector selector;
+  const Vec3 tip = kHead + 0.6f * direction(-31, -11);  // arm out toward object 3
+  TrackingFrame f = user(direction(0, -10), &tip);
+  selector.select(f, room.map, room.partner);
+  EXPECT_EQ(f.head_target, 2);
+  EXPECT_EQ(f.hand_target, 3);
+  EXPECT_TRUE(f.hand_target_position.isApprox(room.map.objects[2].position));
+}
+
+TEST(TargetSelection, ATouchPicksTheTouchedObjectWhateverTheRay) {
+  Room room;
+  room.map.objects.push_back(sphere(4, Vec3(0.35f, 1.0f, -0.3f)));  // low, beside the body
+  TargetSelector selector;
+  const Vec3 tip = Vec3(0.35f, 1.0f, -0.3f) + Vec3(0.0f, 0.09f, 0.0f);  // 4 cm above its surface
+  TrackingFrame f = user(direction(0, -10), &tip);
+  selector.select(f, room.map, room.partner);
+  EXPECT_EQ(f.hand_target, 4);
+}
+
+TEST(TargetSelection, LookingAtTheOtherPersonSelectsThem) {
+  const Room room;
+  TargetSelector selector;
+  selector.head_target = 2;
+  TrackingFrame f = user(direction(-60, 0));
+  selector.select(f, room.map, room.partner);
+  EXPECT_EQ(f.head_target, kPartnerTarget);
+  EXPECT_TRUE(f.head_target_position.isApprox(room.partner));
+}
+
+TEST(TargetSelection, NothingNearTheGazeKeepsTheHeadTarget) {
+  const Room room;
+  TargetSelector selector;
+  TrackingFrame f = user(direction(0, -10));
+  selector.select(f, room.map, room.partner);
+  ASSERT_EQ(f.head_target, 2);
+  TrackingFrame up = user(direction(15, 40));  // at the ceiling
+  selector.select(up, room.map, room.partner);
+  EXPECT_EQ(up.head_target, 2);
+}
+
+TEST(TargetSelection, CloseObjectsDoNotFlickerButAClearMoveSwitches) {
+  Room room;
+  room.map.objects = {sphere(1, kHead + 2.0f * direction(0, 0)),
+                      sphere(2, kHead + 2.0f * direction(3, 0))};
+  TargetSelector selector;
+  TrackingFrame f = user(direction(0, 0));
+  selector.select(f, room.map, room.partner);
+  ASSERT_EQ(f.head_target, 1);
+  // Gaze drifts to 1.9°: object 2 is now nearer (1.1° vs 1.9°) but not by the 2° margin.
+  TrackingFrame drift = user(direction(1.9f, 0));
+  selector.select(drift, room.map, room.partner);
+  EXPECT_EQ(drift.head_target, 1);
+  // Gaze on object 2: 0° vs 3°, a clear move.
+  TrackingFrame moved = user(direction(3, 0));
+  selector.select(moved, room.map, room.partner);
+  EXPECT_EQ(moved.head_target, 2);
+}
+
+TEST(TargetSelection, WithoutEyeTrackingTheHeadForwardIsTheGaze) {
+  const Room room;
+  TargetSelector selector;
+  TrackingFrame f = user(direction(0, 0));
+  f.valid = tracked::kHead | tracked::kRightHand;
+  f.gaze = direction(30, -10);  // not tracked: must not be read
+  f.T_world_head.rotation =
+      (Eigen::AngleAxisf(-30 * kDeg, Vec3::UnitY()) * Eigen::AngleAxisf(-10 * kDeg, Vec3::UnitX()))
+          .toRotationMatrix();
+  selector.select(f, room.map, room.partner);
+  EXPECT_EQ(f.head_target, 3);
+}
+
+TEST(TargetSelection, AnUntrackedHandKeepsItsTarget) {
+  const Room room;
+  TargetSelector selector;
+  const Vec3 tip = kHead + 0.6f * direction(30, -10);
+  TrackingFrame f = user(direction(0, -10), &tip);
+  selector.select(f, room.map, room.partner);
+  ASSERT_EQ(f.hand_target, 1);
+  TrackingFrame lost = user(direction(-30, -10));
+  lost.valid = tracked::kHead | tracked::kGaze;
+  selector.select(lost, room.map, room.partner);
+  EXPECT_EQ(lost.head_target, 3);
+  EXPECT_EQ(lost.hand_target, 1);
+}
+
+TEST(TargetSelection, TheLeftHandWhenItIsTheDeicticOne) {
+  const Room room;
+  TargetSelector selector;
+  selector.config.deictic_hand = Hand::kLeft;
+  TrackingFrame f = user(direction(0, -10));
+  f.index_tip[index(Hand::kLeft)] = kHead + 0.6f * direction(30, -10);
+  f.index_tip[index(Hand::kRight)] = kHead + 0.6f * direction(-30, -10);  // not the deictic hand
+  selector.select(f, room.map, room.partner);
+  EXPECT_EQ(f.hand_target, 1);
+}
+
+}  // namespace
+}  // namespace deixis

@@ -1,0 +1,56 @@
+#pragma once
+// Issue 6's end-to-end check as a reusable procedure: a synthetic *test* subject (never the
+// training subject) points at or touches object X in room A; in room B, where X stands elsewhere
+// relative to the avatar, the remote avatar (translator + touch contact + whole-avatar IK) must
+// finish the gesture at B's X, while copying the user's pose (the paper's baseline) misses.
+// Errors are measured after IK, on the joints an observer in room B would see.
+//
+// The tracking the avatar receives is the capture's own by default; a TrackingSource replaces it
+// (the OpenXR test drives it through a headset runtime and target selection first). The
+// completion states and the intended object always come from the capture's labels.
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "capture/script.h"
+#include "gesture/target_map.h"
+#include "gesture/tracking.h"
+#include "ik/avatar_solver.h"
+
+namespace deixis::presence {
+
+struct DeicticErrors {
+  std::vector<double> horizontal_deg, vertical_deg, touch_cm;
+};
+
+double mean(const std::vector<double>& v);
+
+struct DeicticOutcome {
+  DeicticErrors ours, network_only, copied;  // network_only: without touch contact
+  DeicticErrors before_ik;                   // the translator's end-effectors, before IK
+  int completions = 0;
+};
+
+// The tracking frames a site receives for a performed sequence, one per capture frame.
+using TrackingSource = std::function<std::vector<TrackingFrame>(const capture::Sequence&)>;
+
+// Runs `count` sequences of `category` by `subject` through the remote avatar in room B, with
+// the MoE weights under `weights_root`/{right,left}.
+DeicticOutcome run_deictic_check(const std::string& subject, capture::Category category, int count,
+                                 const ik::AvatarSolver& solver,
+                                 const std::filesystem::path& weights_root,
+                                 const TrackingSource& source = {});
+
+// The frames with their head and hand targets chosen by gesture/target_selection.h from the
+// tracking and room A's objects, as a headset user's site does, instead of the capture's labels.
+std::vector<TrackingFrame> with_selected_targets(const capture::Sequence& s,
+                                                 std::vector<TrackingFrame> frames);
+
+void report(const char* what, const DeicticOutcome& o);
+// The goals of issue 6: pointing HE, VE ≤ 5°, touch ≤ 3 cm, and the copy far worse.
+void expect_pointing(const DeicticOutcome& o);
+void expect_touching(const DeicticOutcome& o);
+
+}  // namespace deixis::presence
