@@ -130,4 +130,26 @@ struct XrRunOptions {
 };
 int run_xr(const XrRunOptions& options);
 
+// `deixis sim`: the desktop simulator (docs/sim.md). A window with the local room (site A) and
+// its virtual user, driven by mouse and keys or by the site's script, and the remote room (site
+// B) with the avatar translated from the user's tracking; B's objects are dragged with the mouse.
+// Both sites run in this process. Exit 0 when closed or done, 1 when the window or GL fails, 2
+// for bad flags or files.
+struct SimOptions {
+  std::filesystem::path site_a;
+  std::filesystem::path site_b;
+  std::filesystem::path weights_dir;
+  std::filesystem::path avatar;      // the avatar in B (.glb); empty: site B's
+  bool script = false;               // the user performs site A's virtual_user script
+  std::filesystem::path input;       // scripted mouse and key events (JSON); implies fixed_step
+  bool fixed_step = false;           // every frame advances the simulator by one 30 Hz tick
+  std::uint64_t frames = 0;          // quit after this many frames (0: no limit)
+  double seconds = 0.0;              // quit after this much simulator time (0: no limit)
+  std::filesystem::path screenshot;  // the last frame's window contents (PNG)
+  std::filesystem::path report;      // JSON: B's objects, the avatar's eye and fingertip, timings
+  int width = 1280;
+  int height = 720;
+};
+int run_sim(const SimOptions& options);
+
 }  // namespace deixis::app

@@ -51,6 +51,19 @@ std::string parse_endpoint(const std::string& text, deixis::app::SiteRunOptions&
   return {};
 }
 
+// --weights-dir, as every command that drives the MoE networks takes it.
+void add_weights_dir_flag(CLI::App* cmd, std::filesystem::path& weights_dir) {
+  cmd->add_option("--weights-dir", weights_dir,
+                  "Directory with right/ and left/ MoE weights (default: assets/weights, "
+                  "$DEIXIS_REFERENCE_DIR/weights or ../shared/reference/weights)")
+      ->check(CLI::ExistingDirectory);
+}
+
+// One of the demo's site files (assets/sites/), the default of the commands that run two sites.
+std::filesystem::path demo_site(const char* file) {
+  return std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/sites" / file;
+}
+
 // The flags host and join share.
 void add_site_flags(CLI::App* cmd, deixis::app::SiteRunOptions& o) {
   cmd->add_option("--site", o.site, "Site configuration (JSON, docs/site-config.md)")
@@ -68,10 +81,7 @@ void add_site_flags(CLI::App* cmd, deixis::app::SiteRunOptions& o) {
       ->check(CLI::Range(0.1, 3600.0));
   cmd->add_option("-o,--out", o.out_dir,
                   "Output directory for session.json and views.mp4 (default: out/<command>)");
-  cmd->add_option("--weights-dir", o.weights_dir,
-                  "Directory with right/ and left/ MoE weights (default: assets/weights, "
-                  "$DEIXIS_REFERENCE_DIR/weights or ../shared/reference/weights)")
-      ->check(CLI::ExistingDirectory);
+  add_weights_dir_flag(cmd, o.weights_dir);
   cmd->add_option("--view-width", o.view_width, "Width of each of the two views (even)")
       ->capture_default_str()
       ->check(CLI::Range(64, 3840));
@@ -266,8 +276,8 @@ int main(int argc, char** argv) {
 
   deixis::app::DemoOptions demo;
   demo.weights_dir = default_weights_dir();
-  demo.site_a = std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/sites/a.json";
-  demo.site_b = std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/sites/b.json";
+  demo.site_a = demo_site("a.json");
+  demo.site_b = demo_site("b.json");
   CLI::App* demo_cmd = app.add_subcommand(
       "demo",
       "Two sites for real: starts `deixis host` (site A) and `deixis join` (site B) as two "
@@ -288,8 +298,8 @@ int main(int argc, char** argv) {
   // `deixis xr` (docs/xr.md).
   deixis::app::XrRunOptions xr;
   xr.weights_dir = default_weights_dir();
-  xr.site = std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/sites/a.json";
-  xr.remote_site = std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/sites/b.json";
+  xr.site = demo_site("a.json");
+  xr.remote_site = demo_site("b.json");
   CLI::App* xr_cmd = app.add_subcommand(
       "xr",
       "The headset user's side through OpenXR (the runtime the loader finds, or XR_RUNTIME_JSON): "
@@ -311,13 +321,64 @@ int main(int argc, char** argv) {
                    "Ask the runtime to end the session after this much display time (default: "
                    "until the runtime ends it)")
       ->check(CLI::Range(0.0, 3600.0));
-  xr_cmd
-      ->add_option("--weights-dir", xr.weights_dir,
-                   "Directory with right/ and left/ MoE weights (default: assets/weights, "
-                   "$DEIXIS_REFERENCE_DIR/weights or ../shared/reference/weights)")
-      ->check(CLI::ExistingDirectory);
+  add_weights_dir_flag(xr_cmd, xr.weights_dir);
   xr_cmd->add_flag("--headless", xr.headless,
                    "XR_MND_headless: a session without graphics (nothing is rendered)");
+
+  // `deixis sim` (docs/sim.md).
+  deixis::app::SimOptions sim;
+  sim.weights_dir = default_weights_dir();
+  sim.site_a = demo_site("a.json");
+  sim.site_b = demo_site("b.json");
+  CLI::App* sim_cmd = app.add_subcommand(
+      "sim",
+      "The desktop simulator: a window with the local room (site A) and its virtual user, "
+      "driven by mouse and keys (right-drag looks, click points, shift-click touches, E "
+      "explains, R rests, P looks at the other person) or by the site's script, and the remote "
+      "room (site B) with the avatar translated from the user's tracking; drag B's objects and "
+      "the avatar adapts. Both sites in this process. Exit 0 when closed or done, 1 if the "
+      "window or OpenGL fails, 2 for bad flags or files");
+  sim_cmd->add_option("--site-a", sim.site_a, "The user's site (its room and subject)")
+      ->capture_default_str()
+      ->check(CLI::ExistingFile);
+  sim_cmd->add_option("--site-b", sim.site_b, "The remote site, where the avatar stands")
+      ->capture_default_str()
+      ->check(CLI::ExistingFile);
+  add_weights_dir_flag(sim_cmd, sim.weights_dir);
+  sim_cmd->add_option("--avatar", sim.avatar, "The avatar in B (.glb; default: site B's)")
+      ->check(CLI::ExistingFile);
+  sim_cmd->add_flag("--script", sim.script,
+                    "The user performs site A's virtual_user script (hands-free)");
+  sim_cmd
+      ->add_option("--input", sim.input,
+                   "Scripted mouse and key events (JSON, docs/sim.md); implies --fixed-step")
+      ->check(CLI::ExistingFile);
+  sim_cmd->add_flag("--fixed-step", sim.fixed_step,
+                    "Every frame advances the simulator by one 30 Hz tick (reproducible runs)");
+  sim_cmd->add_option("--frames", sim.frames, "Quit after this many frames")
+      ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
+  sim_cmd->add_option("--seconds", sim.seconds, "Quit after this many seconds of simulator time")
+      ->check(CLI::Range(0.001, 86400.0));
+  const auto existing_parent = [](const std::string& file) -> std::string {
+    const std::filesystem::path parent = std::filesystem::path(file).parent_path();
+    if (!parent.empty() && !std::filesystem::is_directory(parent)) {
+      return "directory does not exist: " + parent.string();
+    }
+    return {};
+  };
+  sim_cmd->add_option("--screenshot", sim.screenshot, "Save the last frame's window as a PNG")
+      ->check(existing_parent);
+  sim_cmd
+      ->add_option("--report", sim.report,
+                   "Write a JSON report at the end (B's objects, the avatar's eye and fingertip, "
+                   "timings)")
+      ->check(existing_parent);
+  sim_cmd->add_option("--width", sim.width, "Window width")
+      ->capture_default_str()
+      ->check(CLI::Range(320, 7680));
+  sim_cmd->add_option("--height", sim.height, "Window height")
+      ->capture_default_str()
+      ->check(CLI::Range(240, 4320));
 
   // `deixis eval` (docs/eval.md).
   deixis::app::EvalOptions eval;
@@ -394,6 +455,9 @@ int main(int argc, char** argv) {
   }
   if (xr_cmd->parsed()) {
     return deixis::app::run_xr(xr);
+  }
+  if (sim_cmd->parsed()) {
+    return deixis::app::run_sim(sim);
   }
   if (eval_cmd->parsed()) {
     return deixis::app::run_eval(eval);

@@ -40,4 +40,23 @@ ik::AvatarTargets PoseCopy::targets(const TrackingFrame& frame) const {
   return t;
 }
 
+CopiedAvatar::CopiedAvatar(const BodyCalibration& user, const ik::AvatarSolver& solver,
+                           const Pose& T_world_origin)
+    : solver_(&solver),
+      copy_(user, T_world_origin, solver.rig.height),
+      T_world_model_(ik::T_world_root_from_origin(solver, T_world_origin)),
+      local_(solver.rig.skeleton.rest_local),
+      model_(solver.rest_model) {}
+
+void CopiedAvatar::solve(const TrackingFrame& frame) {
+  targets_ = copy_.targets(frame);
+  ik::AvatarSolveJob job;
+  job.solver = solver_;
+  job.T_world_root = T_world_model_;
+  job.targets = &targets_;
+  job.local = local_;
+  job.model = model_;
+  job.run();
+}
+
 }  // namespace deixis::app

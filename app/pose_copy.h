@@ -6,6 +6,9 @@
 // pointing and touching errors are reported next to (the same recipe as
 // tests/presence/end_to_end_test.cpp).
 
+#include <span>
+#include <vector>
+
 #include "gesture/tracking.h"
 #include "ik/avatar_solver.h"
 
@@ -32,6 +35,31 @@ class PoseCopy {
   Pose T_world_origin_;
   Pose T_root_user_world_;  // the user's world seen from their root
   float scale_;
+};
+
+// An avatar copying a person's pose where it stands: PoseCopy's targets solved by the whole-avatar
+// IK every tick (a site's or the simulator's view of its own user). Sized at construction;
+// solve() allocates nothing.
+class CopiedAvatar {
+ public:
+  // `solver` must outlive the CopiedAvatar.
+  CopiedAvatar(const BodyCalibration& user, const ik::AvatarSolver& solver,
+               const Pose& T_world_origin);
+
+  // A refused solve (never for the copy of a finite tracked pose) keeps the last pose.
+  void solve(const TrackingFrame& frame);
+
+  const Pose& T_world_model() const { return T_world_model_; }
+  std::span<const Pose> model_pose() const { return model_; }
+  const ik::AvatarTargets& targets() const { return targets_; }
+
+ private:
+  const ik::AvatarSolver* solver_;
+  PoseCopy copy_;
+  Pose T_world_model_;
+  ik::AvatarTargets targets_;
+  std::vector<Pose> local_;
+  std::vector<Pose> model_;
 };
 
 }  // namespace deixis::app

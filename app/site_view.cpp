@@ -7,16 +7,12 @@
 
 namespace deixis::app {
 
-namespace {
-
 render::Camera site_camera(const Camera& c, int width, int height) {
   const float vertical = c.fov_degrees * std::numbers::pi_v<float> / 180.0f;
   return render::look_at(
       c.position, c.look_at,
       render::symmetric_fov(vertical, static_cast<float>(width) / static_cast<float>(height)));
 }
-
-}  // namespace
 
 SiteView::SiteView(const SiteConfig& site, const avatar::Avatar& avatar, int view_width,
                    int view_height, const std::filesystem::path& video)

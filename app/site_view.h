@@ -31,6 +31,9 @@ struct AvatarPicture {
   Vec3 ray_to = Vec3::Zero();
 };
 
+// The camera a site's configuration frames its room with, for an image of width × height.
+render::Camera site_camera(const Camera& camera, int width, int height);
+
 class SiteView {
  public:
   // `view_width` × `view_height` per view (even numbers); `video`: the .mp4 to write, or empty.

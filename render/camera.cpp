@@ -64,4 +64,15 @@ std::optional<Vec2> project_to_pixel(const Camera& camera, int width, int height
               0.5f * (1.0f - ndc_y) * static_cast<float>(height));
 }
 
+Ray pixel_ray(const Camera& camera, int width, int height, const Vec2& pixel) {
+  // The pixel's point on the plane one metre in front of the eye, between the frustum's edges.
+  const float u = pixel.x() / static_cast<float>(width);
+  const float v = 1.0f - pixel.y() / static_cast<float>(height);
+  const float tan_left = std::tan(camera.fov.angle_left);
+  const float tan_down = std::tan(camera.fov.angle_down);
+  const Vec3 p_eye(tan_left + u * (std::tan(camera.fov.angle_right) - tan_left),
+                   tan_down + v * (std::tan(camera.fov.angle_up) - tan_down), -1.0f);
+  return {camera.T_world_eye.translation, (camera.T_world_eye.rotation * p_eye).normalized()};
+}
+
 }  // namespace deixis::render

@@ -52,4 +52,14 @@ Mat4 projection_matrix(const Fov& fov, float near_distance, float far_distance);
 std::optional<Vec2> project_to_pixel(const Camera& camera, int width, int height,
                                      const Vec3& p_world);
 
+// A half-line in the world: from `origin` along the unit `direction`.
+struct Ray {
+  Vec3 origin = Vec3::Zero();
+  Vec3 direction = Vec3(0, 0, -1);
+};
+
+// The inverse of project_to_pixel: the ray from the eye through `pixel` (same image convention),
+// e.g. to find what the mouse is over.
+Ray pixel_ray(const Camera& camera, int width, int height, const Vec2& pixel);
+
 }  // namespace deixis::render

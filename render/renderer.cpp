@@ -53,6 +53,10 @@ void Renderer::set_targets(const TargetMap& map) {
   targets_.set_targets(map, options_);
 }
 
+bool Renderer::move_target(TargetId id, const Vec3& position) {
+  return targets_.move_target(id, position);
+}
+
 void Renderer::render(const SceneView& view, const RenderTarget& target) {
   const Camera& camera = view.camera;
   const Mat4 view_projection =

@@ -27,6 +27,9 @@ class Renderer {
   SkinnedMeshId add_skinned_mesh(const SkinnedMesh& mesh);
   // The room's objects and their names, until the next call.
   void set_targets(const TargetMap& map);
+  // Moves one of those objects to a new centre (a dragged object); allocates nothing. False when
+  // the map set last has no object `id`.
+  bool move_target(TargetId id, const Vec3& position);
 
   // Draws one view. Throws deixis::Error only for caller mistakes (unknown mesh id, wrong joint
   // count); allocates only when a frame has more avatars or lines than any before it.

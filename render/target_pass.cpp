@@ -34,6 +34,7 @@ void TargetPass::set_targets(const TargetMap& map, const RendererOptions& option
   std::vector<OverlayVertex> vertices;
   for (const TargetObject& object : map.objects) {
     Target t;
+    t.id = object.id;
     t.kind = object.kind;
     const Vec3 size = object.size.cwiseMax(Vec3::Constant(1e-4f));
     t.model = Mat4::Identity();
@@ -48,6 +49,18 @@ void TargetPass::set_targets(const TargetMap& map, const RendererOptions& option
   glNamedBufferData(label_vertices_.get(),
                     static_cast<GLsizeiptr>(vertices.size() * sizeof(OverlayVertex)),
                     vertices.empty() ? nullptr : vertices.data(), GL_STATIC_DRAW);
+}
+
+bool TargetPass::move_target(TargetId id, const Vec3& position) {
+  for (Target& t : targets_) {
+    if (t.id == id) {
+      const Vec3 shift = position - t.model.topRightCorner<3, 1>();
+      t.model.topRightCorner<3, 1>() = position;
+      t.label_anchor += shift;
+      return true;
+    }
+  }
+  return false;
 }
 
 void TargetPass::draw_objects(const Mat4& view_projection, const RendererOptions& options) const {

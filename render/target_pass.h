@@ -16,12 +16,16 @@ class TargetPass {
   TargetPass();
   // Rebuilds the per-object transforms and the label geometry (allocates; call on map changes).
   void set_targets(const TargetMap& map, const RendererOptions& options);
+  // Moves object `id` (its centre) without rebuilding anything: no allocation, so an object can
+  // follow the mouse every frame. Returns false when no object has that id.
+  bool move_target(TargetId id, const Vec3& position);
   void draw_objects(const Mat4& view_projection, const RendererOptions& options) const;
   void draw_labels(const Camera& camera, const Mat4& view_projection, const OverlayProgram& overlay,
                    const RendererOptions& options) const;
 
  private:
   struct Target {
+    TargetId id = kNoTarget;
     TargetKind kind = TargetKind::kSphere;
     Mat4 model;
     Eigen::Matrix3f normal_matrix;

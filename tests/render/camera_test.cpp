@@ -73,5 +73,21 @@ TEST(CameraTest, ProjectToPixelPutsRowZeroAtTheTop) {
   EXPECT_FALSE(project_to_pixel(camera, 200, 100, Vec3(0, 1, 6)).has_value());  // behind
 }
 
+TEST(CameraTest, PixelRayGoesBackThroughTheProjectedPoint) {
+  Camera camera;  // asymmetric, turned and tilted, as an XR eye's
+  camera.T_world_eye = {
+      Eigen::AngleAxisf(0.5f, Vec3(0.2f, 1, 0.1f).normalized()).toRotationMatrix(),
+      Vec3(0.4f, 1.6f, 2.0f)};
+  camera.fov = Fov{-0.6f, 0.3f, 0.5f, -0.4f};
+  for (const Vec3& p : {Vec3(0, 1, -2), Vec3(-1.5f, 0.2f, -4), Vec3(0.8f, 2.5f, -1)}) {
+    const auto pixel = project_to_pixel(camera, 320, 240, p);
+    ASSERT_TRUE(pixel.has_value());
+    const Ray ray = pixel_ray(camera, 320, 240, *pixel);
+    EXPECT_TRUE(ray.origin.isApprox(camera.T_world_eye.translation));
+    EXPECT_NEAR(ray.direction.norm(), 1.0f, 1e-6f);
+    EXPECT_TRUE(ray.direction.isApprox((p - ray.origin).normalized(), 1e-5f)) << p.transpose();
+  }
+}
+
 }  // namespace
 }  // namespace deixis::render

@@ -172,6 +172,22 @@ TEST_F(HeadlessRenderTest, TargetsAreDrawnInTheirColoursWherePlaced) {
   EXPECT_FALSE(same_hue(pixel_at(image, camera, room.objects[0].position), target_colour(2)));
 }
 
+TEST_F(HeadlessRenderTest, AMovedTargetIsDrawnAtItsNewPlaceOnly) {
+  TargetMap room;
+  room.objects = {{1, "Jupiter", TargetKind::kSphere, Vec3(-0.9f, 1.2f, 0), Vec3::Constant(0.4f)}};
+  renderer_->set_targets(room);
+  const Vec3 moved(0.8f, 1.0f, 0.0f);
+  EXPECT_TRUE(renderer_->move_target(1, moved));
+  EXPECT_FALSE(renderer_->move_target(7, moved));  // no such object
+  SceneView view = bare_view();
+  view.show_targets = true;
+  view.show_labels = false;
+  renderer_->render(view, context_->target());
+  const Image image = read_pixels(context_->target());
+  EXPECT_TRUE(same_hue(pixel_at(image, view.camera, moved), target_colour(1)));
+  EXPECT_TRUE(is_background(pixel_at(image, view.camera, room.objects[0].position)));
+}
+
 TEST_F(HeadlessRenderTest, LabelsAreDrawnAboveTheirObjects) {
   RendererOptions options;
   options.label_height = 0.25f;  // legible at 320 × 240 from 2.5 m

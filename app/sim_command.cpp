@@ -1,0 +1,427 @@
+// `deixis sim`: the desktop simulator (docs/sim.md). One window, both sites in this process: on
+// the left the local room (site A) with the virtual user, drawn as an avatar copying the user's
+// pose; on the right the remote room (site B) with the avatar presence::RemoteAvatar translates
+// the user's tracking into, at 30 Hz; below, the ImGui panel. The mouse and keys drive the user
+// (or the site's script does) and move B's objects; the avatar adapts on the next tick.
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include "app/commands.h"
+#include "app/moe_weights.h"
+#include "app/pose_copy.h"
+#include "app/sim_controls.h"
+#include "app/sim_history.h"
+#include "app/sim_imgui.h"
+#include "app/sim_panel.h"
+#include "app/sim_user.h"
+#include "app/sim_views.h"
+#include "avatar/avatar_loader.h"
+#include "capture/virtual_user.h"
+#include "gesture/error.h"
+#include "presence/remote_avatar.h"
+#include "render/image.h"
+#include "render/window_context.h"
+
+namespace deixis::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kTick = 1.0 / 30.0;         // s: tracking and translation (DESIGN §3)
+constexpr double kScriptMinSeconds = 300.0;  // a --script user's performance, at least
+constexpr float kRayShownAbove = 0.5f;       // deictic progression above which rays show
+constexpr int kMaxTicksPerFrame = 5;         // a stalled frame does not snowball
+constexpr std::uint64_t kDefaultSeed = 1;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// The site's virtual user's subject and seed, or the demo's site-A subject.
+const capture::Subject& user_subject(const SiteConfig& a) {
+  return capture::find_subject(a.virtual_user ? a.virtual_user->subject : "172");
+}
+
+// The avatar standing in the remote room and the translator + IK that drive it. Rebuilt when the
+// person loads another avatar (the solver must stay where the RemoteAvatar points).
+struct RemoteSide {
+  RemoteSide(const fs::path& glb, const BodyCalibration& user, const MoeNetworks& networks,
+             const SiteConfig& room)
+      : path(glb),
+        avatar(avatar::load_avatar(glb)),
+        solver(ik::AvatarSolver::build(avatar.rig)),
+        remote(networks.mpnet, networks.ugnet, solver,
+               presence::RemoteAvatarConfig{user, room.remote_avatar.T_world_floor(), 1, true}) {}
+  fs::path path;
+  avatar::Avatar avatar;
+  ik::AvatarSolver solver;
+  presence::RemoteAvatar remote;
+  render::SkinnedMeshId mesh;
+};
+
+// Everything read before the window opens; any error here is a bad input (exit 2).
+struct SimAssets {
+  SiteConfig a;
+  SiteConfig b;
+  avatar::Avatar user_avatar;
+  std::optional<ik::AvatarSolver> user_solver;
+  std::optional<MoeNetworks> networks;
+  std::unique_ptr<SimUser> user;  // null with --script
+  std::optional<capture::ScriptPerformance> script;
+  std::optional<ScriptedInput> input;
+  BodyCalibration calibration;
+  fs::path remote_avatar_path;
+};
+
+SimAssets load_assets(const SimOptions& o) {
+  SimAssets s;
+  s.a = read_site_config(o.site_a);
+  s.b = read_site_config(o.site_b);
+  s.user_avatar = avatar::load_avatar(s.a.avatar_path);
+  s.user_solver = ik::AvatarSolver::build(s.user_avatar.rig);
+  const Pose partner = presence::avatar_origin(*s.user_solver, s.a.remote_avatar.T_world_floor());
+  if (o.script) {
+    if (!s.a.virtual_user) {
+      throw Error(o.site_a.string() + ": virtual_user: missing (--script plays it)");
+    }
+    const VirtualUser& v = *s.a.virtual_user;
+    const capture::VirtualUserScene scene{s.a.user.T_world_floor(), s.a.target_map.objects,
+                                          partner.translation};
+    try {
+      s.script = capture::perform_script(capture::find_subject(v.subject), v.script, scene, v.seed,
+                                         std::max(o.seconds, kScriptMinSeconds));
+    } catch (const Error& e) {
+      throw Error(o.site_a.string() + ": " + e.what());
+    }
+    s.calibration = s.script->sequence.calibration;
+  } else {
+    const std::uint64_t seed = s.a.virtual_user ? s.a.virtual_user->seed : kDefaultSeed;
+    s.user = std::make_unique<SimUser>(
+        user_subject(s.a),
+        SimUserScene{s.a.user.T_world_floor(), s.a.target_map.objects, partner.translation}, seed);
+    s.calibration = s.user->calibration();
+  }
+  s.networks.emplace(load_moe_networks(o.weights_dir, s.calibration.deictic_hand));
+  if (!o.input.empty()) {
+    s.input.emplace(read_input_script(o.input));
+  }
+  s.remote_avatar_path = o.avatar.empty() ? s.b.avatar_path : o.avatar;
+  return s;
+}
+
+// A ray from `from` through `through`, as long as the distance to `target`.
+render::DebugLine eye_ray(const Vec3& from, const Vec3& through, const Vec3& target) {
+  render::DebugLine line;
+  const Vec3 direction = through - from;
+  line.from = from;
+  line.to = direction.norm() > 1e-4f ? Vec3(from + direction.normalized() * (target - from).norm())
+                                     : from;
+  return line;
+}
+
+class Sim {
+ public:
+  Sim(const SimOptions& o, SimAssets& a, render::WindowContext& window)
+      : o_(o),
+        a_(a),
+        window_(window),
+        remote_map_(a.b.target_map),
+        local_(a.a, a.a.target_map),
+        remote_view_(a.b, remote_map_),
+        user_copy_(a.calibration, *a.user_solver,
+                   presence::avatar_origin(*a.user_solver, a.a.user.T_world_floor())),
+        user_mesh_(local_.renderer().add_skinned_mesh(a.user_avatar.mesh)),
+        controls_(local_, remote_view_, a.a.target_map, remote_map_, a.user.get()),
+        imgui_(window.glfw_window()),
+        window_input_(window.glfw_window()) {
+    remote_ = make_remote(a.remote_avatar_path);
+    const fs::path& glb = a.remote_avatar_path;
+    std::snprintf(edits_.avatar_path.data(), edits_.avatar_path.size(), "%s",
+                  o.avatar.empty() ? "" : glb.c_str());
+    // The remote avatar looks at the person in B's room: where B's user stands.
+    b_partner_head_ =
+        presence::avatar_origin(remote_->solver, a.b.user.T_world_floor()).translation;
+  }
+
+  int run() {
+    const Clock::time_point start = Clock::now();
+    const bool fixed = fixed_step();
+    for (std::uint64_t frame = 0;; ++frame) {
+      const Clock::time_point frame_start = Clock::now();
+      window_.poll_events();
+      const double t = fixed ? static_cast<double>(frame) * kTick
+                             : std::chrono::duration<double>(Clock::now() - start).count();
+      const bool last = (o_.frames > 0 && frame + 1 >= o_.frames) ||
+                        (o_.seconds > 0.0 && t + (fixed ? kTick : 0.0) >= o_.seconds);
+      if (!step(t, last)) {
+        break;
+      }
+      history_.frame_ms.push(static_cast<float>(ms_since(frame_start)));
+      frames_ = frame + 1;
+      if (last || window_.should_close()) {
+        break;
+      }
+    }
+    return finish();
+  }
+
+ private:
+  bool fixed_step() const { return o_.fixed_step || a_.input.has_value(); }
+
+  std::unique_ptr<RemoteSide> make_remote(const fs::path& glb) {
+    auto side = std::make_unique<RemoteSide>(glb, a_.calibration, *a_.networks, a_.b);
+    side->mesh = remote_view_.renderer().add_skinned_mesh(side->avatar.mesh);
+    return side;
+  }
+
+  // One frame at simulator time t; false when the person asked to quit.
+  bool step(double t, bool last) {
+    const render::RenderTarget window = window_.target();
+    const SimLayout layout = sim_layout(window.width, window.height);
+    local_.place(layout.local);
+    remote_view_.place(layout.remote);
+    const FrameInput in = a_.input ? a_.input->next(t) : window_input_.next();
+    imgui_.begin_frame(a_.input ? &in : nullptr);
+    const PanelActions actions = draw_panel(layout.panel, panel_status(t), edits_, nullptr);
+    apply(actions, t);
+    if (!controls_.apply(in, !imgui_.wants_mouse(), !imgui_.wants_keyboard(), t)) {
+      return false;
+    }
+    for (int k = 0; k < kMaxTicksPerFrame && static_cast<double>(ticks_) * kTick <= t; ++k) {
+      tick(static_cast<double>(ticks_) * kTick);
+    }
+    const Clock::time_point render_start = Clock::now();
+    draw(window.height);
+    history_.render_ms.push(static_cast<float>(ms_since(render_start)));
+    imgui_.render();
+    if (last && !o_.screenshot.empty()) {
+      render::write_png(render::read_pixels(window_.target()), o_.screenshot);
+    }
+    window_.present();
+    return true;
+  }
+
+  PanelStatus panel_status(double t) const {
+    PanelStatus s;
+    s.history = &history_;
+    s.scripted_user = a_.user == nullptr;
+    s.avatar_visible = remote_->remote.visible();
+    s.local_objects = a_.a.target_map.objects;
+    s.status = controls_.status();
+    s.avatar = remote_->path.native();
+    s.avatar_note = avatar_note_;
+    s.seconds = t;
+    s.ticks = ticks_;
+    return s;
+  }
+
+  void apply(const PanelActions& actions, double t) {
+    if (actions.look_at_partner) {
+      controls_.run(UserCommand::kLookAtPartner, kNoTarget, t);
+    }
+    if (actions.explain) {
+      controls_.run(UserCommand::kExplain, kNoTarget, t);
+    }
+    if (actions.rest) {
+      controls_.run(UserCommand::kRest, kNoTarget, t);
+    }
+    if (actions.point != kNoTarget) {
+      controls_.run(UserCommand::kPoint, actions.point, t);
+    }
+    if (actions.touch != kNoTarget) {
+      controls_.run(UserCommand::kTouch, actions.touch, t);
+    }
+    if (actions.reset_objects) {
+      controls_.reset_objects();
+    }
+    if (actions.load_avatar) {
+      const std::string text = edits_.avatar_path.data();
+      load_avatar(text.empty() ? a_.b.avatar_path : fs::path(text));
+    }
+  }
+
+  void load_avatar(const fs::path& glb) {
+    try {
+      remote_ = make_remote(glb);
+      avatar_note_.clear();
+    } catch (const Error& e) {
+      // The previous avatar stays: a bad file is the person's to fix, not a reason to stop.
+      avatar_note_ = std::string("Cannot load the avatar: ") + e.what();
+      std::fprintf(stderr, "deixis sim: %s\n", avatar_note_.c_str());
+    }
+  }
+
+  // One 30 Hz tick: the user's tracking at `tt`, their copy in A, their avatar in B.
+  void tick(double tt) {
+    if (a_.user) {
+      a_.user->update(tt);
+      user_frame_ = a_.user->sample(tt);
+      user_deictic_ = a_.user->deictic(tt);
+    } else {
+      const auto& frames = a_.script->sequence.frames;
+      const std::size_t i = std::min<std::size_t>(ticks_, frames.size() - 1);
+      user_frame_ = frames[i];
+      user_frame_.time = tt;
+      user_deictic_ = a_.script->sequence.labels[i][1];
+    }
+    user_copy_.solve(user_frame_);
+    const LocalTargets room{&remote_map_, b_partner_head_};
+    const Clock::time_point t0 = Clock::now();
+    remote_->remote.tick(&user_frame_, room);
+    const double took = ms_since(t0);
+    history_.push_tick(remote_->remote.frame(), took);
+    visible_ticks_ += remote_->remote.visible() ? 1 : 0;
+    ++ticks_;
+  }
+
+  void draw(int window_height) {
+    std::array<render::AvatarDraw, 1> avatars{
+        render::AvatarDraw{user_mesh_, user_copy_.T_world_model(), user_copy_.model_pose()}};
+    std::array<render::DebugLine, 1> lines;
+    std::size_t line_count = 0;
+    const TargetObject* user_target = a_.a.target_map.find(user_frame_.hand_target);
+    if (user_target != nullptr && user_deictic_ > kRayShownAbove) {
+      const EndEffectorPoses& e = user_copy_.targets().deictic;
+      lines[line_count++] = eye_ray(e.T_world_head.translation, e.index_tip, user_target->position);
+    }
+    local_.draw(avatars, std::span(lines.data(), line_count), window_height);
+
+    const presence::RemoteAvatar& avatar = remote_->remote;
+    std::size_t avatar_count = 0;
+    line_count = 0;
+    if (avatar.visible()) {
+      avatars[avatar_count++] = {remote_->mesh, avatar.T_world_model(), avatar.model_pose()};
+      const TargetObject* target = remote_map_.find(avatar.frame().hand_target);
+      if (target != nullptr && avatar.frame().progression[1] > kRayShownAbove) {
+        lines[line_count++] =
+            eye_ray(avatar.eye_midpoint(), avatar.index_fingertip(), target->position);
+      }
+    }
+    remote_view_.draw(std::span(avatars.data(), avatar_count), std::span(lines.data(), line_count),
+                      window_height);
+  }
+
+  int finish() {
+    const auto quantiles = [](const Ring& r) {
+      return nlohmann::json{{"p50", r.quantile(0.5f)}, {"p99", r.quantile(0.99f)}};
+    };
+    std::printf(
+        "frames %llu, ticks %llu (avatar visible in %llu); translation + IK p50 %.3f ms, render "
+        "p50 %.2f ms, frame p50 %.2f ms\n",
+        static_cast<unsigned long long>(frames_), static_cast<unsigned long long>(ticks_),
+        static_cast<unsigned long long>(visible_ticks_),
+        static_cast<double>(history_.tick_ms.quantile(0.5f)),
+        static_cast<double>(history_.render_ms.quantile(0.5f)),
+        static_cast<double>(history_.frame_ms.quantile(0.5f)));
+    if (o_.report.empty()) {
+      return 0;
+    }
+    nlohmann::json objects = nlohmann::json::array();
+    for (const TargetObject& object : remote_map_.objects) {
+      objects.push_back(
+          {{"id", object.id},
+           {"name", object.name},
+           {"position", {object.position.x(), object.position.y(), object.position.z()}}});
+    }
+    const presence::RemoteAvatar& avatar = remote_->remote;
+    const Vec3 eye = avatar.eye_midpoint();
+    const Vec3 tip = avatar.index_fingertip();
+    const render::RenderTarget window = window_.target();
+    const SimLayout layout = sim_layout(window.width, window.height);
+    const auto rect = [](const ViewRect& r) { return nlohmann::json{r.x, r.y, r.width, r.height}; };
+    const nlohmann::json report = {
+        {"frames", frames_},
+        {"ticks", ticks_},
+        {"visible_ticks", visible_ticks_},
+        {"window", {window.width, window.height}},
+        {"views", {{"local", rect(layout.local)}, {"remote", rect(layout.remote)}}},
+        {"remote_objects", objects},
+        {"user",
+         {{"head_target", user_frame_.head_target}, {"hand_target", user_frame_.hand_target}}},
+        {"avatar",
+         {{"visible", avatar.visible()},
+          {"hand_target", avatar.frame().hand_target},
+          {"progression", avatar.frame().progression},
+          {"eye", {eye.x(), eye.y(), eye.z()}},
+          {"fingertip", {tip.x(), tip.y(), tip.z()}},
+          {"glb", remote_->path.string()}}},
+        {"status", controls_.status()},
+        {"timings_ms",
+         {{"translation_ik", quantiles(history_.tick_ms)},
+          {"render", quantiles(history_.render_ms)},
+          {"frame", quantiles(history_.frame_ms)}}}};
+    std::ofstream out(o_.report);
+    out << report.dump(2) << "\n";
+    if (!out) {
+      std::fprintf(stderr, "deixis sim: %s: cannot write the report\n", o_.report.c_str());
+      return 1;
+    }
+    return 0;
+  }
+
+  const SimOptions& o_;
+  SimAssets& a_;
+  render::WindowContext& window_;
+  TargetMap remote_map_;  // B's objects as they stand now (dragged in place)
+  RoomView local_;
+  RoomView remote_view_;
+  CopiedAvatar user_copy_;
+  render::SkinnedMeshId user_mesh_;
+  SimControls controls_;
+  ImGuiLayer imgui_;
+  WindowInput window_input_;
+  std::unique_ptr<RemoteSide> remote_;
+  Vec3 b_partner_head_ = Vec3::Zero();
+  PanelEdits edits_;
+  std::string avatar_note_;
+  SimHistory history_;
+  TrackingFrame user_frame_;
+  float user_deictic_ = 0.0f;
+  std::uint64_t frames_ = 0;
+  std::uint64_t ticks_ = 0;
+  std::uint64_t visible_ticks_ = 0;
+};
+
+}  // namespace
+
+int run_sim(const SimOptions& o) {
+  std::optional<SimAssets> assets;
+  try {
+    assets.emplace(load_assets(o));
+  } catch (const Error& e) {
+    std::fprintf(stderr, "deixis sim: %s\n", e.what());
+    return 2;
+  }
+  try {
+    render::WindowOptions window_options;
+    window_options.width = o.width;
+    window_options.height = o.height;
+    window_options.title = "Deixis sim: " + assets->a.site + " and " + assets->b.site;
+    window_options.vsync = !(o.fixed_step || !o.input.empty());
+    render::WindowContext window(window_options);
+    glfwSetInputMode(window.glfw_window(), GLFW_STICKY_MOUSE_BUTTONS, GLFW_TRUE);
+    std::printf("window: %s\n", window.description().c_str());
+    int code = 0;
+    {
+      Sim sim(o, *assets, window);
+      code = sim.run();
+    }
+    return code;
+  } catch (const Error& e) {
+    std::fprintf(stderr, "deixis sim: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace deixis::app

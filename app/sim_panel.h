@@ -1,0 +1,62 @@
+#pragma once
+// The simulator's Dear ImGui panel (docs/sim.md): live plots of the remote avatar's three
+// progressions (MPNet) and blend weights, per-tick timings, the virtual user's commands and
+// status, the network state and the avatar choice. Drawing it reports what the person clicked
+// (PanelActions) and where each widget was (PanelWidgets: the smoke test checks they are there,
+// scripted input can aim at them). Needs an ImGui frame begun; allocates nothing of its own.
+
+#include <array>
+#include <span>
+#include <string_view>
+
+#include "app/sim_history.h"
+#include "app/sim_views.h"
+
+namespace deixis::app {
+
+// What the panel shows, read-only.
+struct PanelStatus {
+  const SimHistory* history = nullptr;
+  bool scripted_user = false;  // --script: the user's commands are disabled
+  bool avatar_visible = false;
+  std::span<const TargetObject> local_objects;  // the user's room, for point/touch buttons
+  std::string_view status;                      // the last command's outcome
+  std::string_view network = "local (both sites in this process)";
+  std::string_view avatar;       // the remote avatar's .glb
+  std::string_view avatar_note;  // the last avatar load's error, if any
+  double seconds = 0.0;          // simulator time
+  std::uint64_t ticks = 0;
+};
+
+// What the person edits in the panel; kept by the caller between frames.
+struct PanelEdits {
+  std::array<char, 512> avatar_path{};
+  std::array<char, 128> passphrase{};
+  TargetId selected = 1;  // the object the Point and Touch buttons act on
+};
+
+struct PanelActions {
+  TargetId point = kNoTarget;
+  TargetId touch = kNoTarget;
+  bool look_at_partner = false;
+  bool explain = false;
+  bool rest = false;
+  bool reset_objects = false;
+  bool load_avatar = false;  // from PanelEdits::avatar_path (empty: the default avatar)
+};
+
+struct PanelWidgets {
+  struct Item {
+    std::string_view label;
+    float x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // window pixels
+  };
+  std::array<Item, 48> items{};
+  std::size_t count = 0;
+  const Item* find(std::string_view label) const;
+};
+
+// The panel fills `rect`; `widgets` (optional) receives where each widget was drawn.
+PanelActions draw_panel(const ViewRect& rect, const PanelStatus& status, PanelEdits& edits,
+                        PanelWidgets* widgets);
+
+}  // namespace deixis::app
