@@ -91,6 +91,12 @@ Finished deixis(const std::vector<std::string>& args, const fs::path& dir) {
   return run;
 }
 
+// One private X server for the test program; the simulators it starts inherit its DISPLAY.
+const render::testing::XvfbServer& display() {
+  static render::testing::XvfbServer server;
+  return server;
+}
+
 std::string weights() {
   return (deixis::testing::reference_dir() / "weights").string();
 }
@@ -183,7 +189,7 @@ Vec3 vec3(const json& j) {
 }
 
 TEST_F(SimProcessTest, ADraggedObjectMovesAndTheAvatarPointsAtItsNewPlace) {
-  static render::testing::XvfbServer xvfb;  // GLFW keeps its display until the process exits
+  const render::testing::XvfbServer& xvfb = display();
   if (xvfb.missing()) {
     GTEST_SKIP() << xvfb.error();
   }
@@ -247,6 +253,29 @@ TEST_F(SimProcessTest, ADraggedObjectMovesAndTheAvatarPointsAtItsNewPlace) {
   const Vec3 tip = vec3(avatar["fingertip"]);
   EXPECT_LT(angle(tip - eye, moved - eye), 0.1f);
   EXPECT_GT(angle(tip - eye, kJupiterB - eye), 0.5f);
+}
+
+TEST_F(SimProcessTest, AScriptedUserRunsHandsFree) {
+  const render::testing::XvfbServer& xvfb = display();
+  if (xvfb.missing()) {
+    GTEST_SKIP() << xvfb.error();
+  }
+  ASSERT_TRUE(xvfb.ready()) << xvfb.error();
+  // The demo's sites: site A's virtual_user looks at the other person, then points at Jupiter
+  // (its step 1 completes within 3 s).
+  const fs::path report_file = dir() / "report.json";
+  const Finished run =
+      deixis({"sim", "--script", "--fixed-step", "--frames", "100", "--weights-dir", weights(),
+              "--width", std::to_string(kWidth), "--height", std::to_string(kHeight), "--report",
+              report_file.string()},
+             dir());
+  ASSERT_EQ(run.code, 0) << run.err;
+  EXPECT_NE(run.out.find("frames 100, ticks 100"), std::string::npos) << run.out;
+  const json report = json::parse(slurp(report_file));
+  EXPECT_EQ(report["status"], "The user follows the site's script");
+  EXPECT_GE(report["visible_ticks"].get<int>(), 99);
+  EXPECT_EQ(report["user"]["hand_target"].get<int>(), 1);
+  EXPECT_EQ(report["avatar"]["hand_target"].get<int>(), 1);
 }
 
 TEST_F(SimProcessTest, BadFlagsAndFilesExitTwoNamingThem) {
