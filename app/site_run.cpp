@@ -113,9 +113,7 @@ class SiteRun {
         a_(a),
         net_(net),
         view_(view),
-        user_copy_(a.performance.sequence.calibration, a.T_world_user_origin, a.solver.rig.height),
-        user_local_(a.solver.rig.skeleton.rest_local),
-        user_model_(a.solver.rest_model),
+        user_copy_(a.performance.sequence.calibration, a.solver, a.T_world_user_origin),
         observer_(kMaxCompletions) {
     const std::size_t frames = a.performance.sequence.size();
     ticks_ = o.seconds > 0.0 ? static_cast<std::uint64_t>(o.seconds / kTick + 0.5) : frames;
@@ -159,7 +157,7 @@ class SiteRun {
     net_.session().send_tracking(frame);
     receive(now, frame.T_world_head.translation);
     record_.visible_ticks += remote_visible() ? 1 : 0;
-    solve_user(frame);
+    user_copy_.solve(frame);
     draw(frame, a_.performance.sequence.labels[i][1]);
     ++record_.ticks;
   }
@@ -205,27 +203,16 @@ class SiteRun {
     }
   }
 
-  void solve_user(const TrackingFrame& frame) {
-    user_targets_ = user_copy_.targets(frame);
-    ik::AvatarSolveJob job;
-    job.solver = &a_.solver;
-    job.T_world_root = ik::T_world_root_from_origin(a_.solver, a_.T_world_user_origin);
-    job.targets = &user_targets_;
-    job.local = user_local_;
-    job.model = user_model_;
-    job.run();  // the copy of a finite tracked pose is finite; a refused one keeps last pose
-  }
-
   void draw(const TrackingFrame& frame, float user_deictic) {
     if (view_ == nullptr) {
       return;
     }
-    AvatarPicture user{ik::T_world_root_from_origin(a_.solver, a_.T_world_user_origin),
-                       user_model_};
+    AvatarPicture user{user_copy_.T_world_model(), user_copy_.model_pose()};
     const TargetObject* user_target = a_.site.target_map.find(frame.hand_target);
     if (user_target != nullptr && user_deictic > kRayShownAbove) {
-      user = with_ray(user, user_targets_.deictic.T_world_head.translation,
-                      user_targets_.deictic.index_tip, user_target->position);
+      const EndEffectorPoses& copied = user_copy_.targets().deictic;
+      user =
+          with_ray(user, copied.T_world_head.translation, copied.index_tip, user_target->position);
     }
     std::optional<AvatarPicture> remote;
     if (remote_visible()) {
@@ -275,10 +262,7 @@ class SiteRun {
   SiteAssets& a_;
   SiteSession& net_;
   SiteView* view_;
-  PoseCopy user_copy_;
-  ik::AvatarTargets user_targets_;
-  std::vector<Pose> user_local_;
-  std::vector<Pose> user_model_;
+  CopiedAvatar user_copy_;  // the user's own view: their pose copied where they stand
   std::optional<Remote> remote_;
   std::uint64_t remote_stream_ = 0;
   bool stream_live_ = false;
