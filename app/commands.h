@@ -117,16 +117,27 @@ struct EvalOptions {
 };
 int run_eval(const EvalOptions& options);
 
-// `deixis xr`: the headset user's side through OpenXR (docs/xr.md). No networking yet: the
-// remote person is `remote_site`'s scripted virtual user, performed locally and translated into
-// `site`'s room. Exit 0 after the session ends, 1 when OpenXR fails or the session is lost, 2 for
-// bad files.
+// `deixis xr`: the headset user's side through OpenXR (docs/xr.md). With `network` the site
+// hosts or joins another (`deixis host`/`join`/`xr`): the headset user's tracking goes out with
+// targets selected from it (gesture/target_selection.h) and a calibration taken from the first
+// tracked frame (gesture/upright_calibration.h); the other site's person comes in as a
+// translated avatar. Without, the remote person is `remote_site`'s scripted virtual user,
+// performed locally. Exit 0 after the session ends, 1 when OpenXR or the session fails (refused,
+// nobody came, lost), 2 for bad files.
 struct XrRunOptions {
   std::filesystem::path site;
   std::filesystem::path remote_site;
   double seconds = 0.0;  // 0: until the runtime ends the session
   std::filesystem::path weights_dir;
   bool headless = false;  // XR_MND_headless: no rendering (tests, runtimes without GL)
+  bool network = false;   // host or join instead of the local remote person
+  bool host = true;
+  std::string address = "0.0.0.0";  // host: where to listen; join: the host
+  std::uint16_t port = 7350;        // host: 0 picks a free one (printed as "port N")
+  std::string passphrase;
+  double wait = 30.0;
+  std::string hand = "right";  // the headset user's deictic hand
+  float height = 0.0f;         // m; 0: from the eye height at calibration
 };
 int run_xr(const XrRunOptions& options);
 

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 #include "app/commands.h"
@@ -32,7 +33,7 @@ std::filesystem::path default_weights_dir() {
 }
 
 // "host:port" for --connect; CLI11 reports the flag when this throws.
-std::string parse_endpoint(const std::string& text, deixis::app::SiteRunOptions& o) {
+std::string parse_endpoint(const std::string& text, std::string& address, std::uint16_t& port_out) {
   const std::size_t colon = text.rfind(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == text.size()) {
     return "expected HOST:PORT, e.g. 127.0.0.1:7350";
@@ -43,12 +44,29 @@ std::string parse_endpoint(const std::string& text, deixis::app::SiteRunOptions&
     if (used != text.size() - colon - 1 || port < 1 || port > 65535) {
       return "the port must be 1 to 65535";
     }
-    o.address = text.substr(0, colon);
-    o.port = static_cast<std::uint16_t>(port);
+    address = text.substr(0, colon);
+    port_out = static_cast<std::uint16_t>(port);
   } catch (const std::exception&) {
     return "the port must be a number";
   }
   return {};
+}
+
+// A HOST:PORT option (join's --connect, xr's --join) into `address` and `port`; `then` runs
+// after a valid endpoint was read.
+CLI::Option* add_endpoint_option(CLI::App* cmd, const std::string& flag, std::string& address,
+                                 std::uint16_t& port, std::function<void()> then,
+                                 const std::string& help) {
+  return cmd->add_option_function<std::string>(
+      flag,
+      [flag, &address, &port, then = std::move(then)](const std::string& endpoint) {
+        const std::string problem = parse_endpoint(endpoint, address, port);
+        if (!problem.empty()) {
+          throw CLI::ValidationError(flag, endpoint + ": " + problem);
+        }
+        then();
+      },
+      help);
 }
 
 // --weights-dir, as every command that drives the MoE networks takes it.
@@ -262,16 +280,8 @@ int main(int argc, char** argv) {
       "Run a site that joins a host (as host does otherwise); exit 1 if the host refuses or "
       "cannot be reached, 2 for bad flags or files");
   add_site_flags(join_cmd, join);
-  join_cmd
-      ->add_option_function<std::string>(
-          "--connect",
-          [&join](const std::string& endpoint) {
-            const std::string problem = parse_endpoint(endpoint, join);
-            if (!problem.empty()) {
-              throw CLI::ValidationError("--connect", endpoint + ": " + problem);
-            }
-          },
-          "The host, HOST:PORT")
+  add_endpoint_option(
+      join_cmd, "--connect", join.address, join.port, [] {}, "The host, HOST:PORT")
       ->required();
 
   deixis::app::DemoOptions demo;
@@ -303,17 +313,20 @@ int main(int argc, char** argv) {
   CLI::App* xr_cmd = app.add_subcommand(
       "xr",
       "The headset user's side through OpenXR (the runtime the loader finds, or XR_RUNTIME_JSON): "
-      "both eyes see this site's room and the remote person's avatar. No networking in this "
-      "version: the remote person is the other site's scripted virtual user, performed locally "
-      "and translated into this room (the translator and IK as in host/join). Prints the "
-      "runtime, then frames and tracking counts; exit 1 if OpenXR fails, 2 for bad flags or "
-      "files");
+      "both eyes see this site's room and the remote person's avatar. With --host or --join the "
+      "site meets another (deixis host/join/xr): the headset user, calibrated standing upright "
+      "at the start, is tracked out with the targets they look and point at, and the other "
+      "site's person comes in as a translated avatar. Without, the remote person is "
+      "--remote-site's scripted virtual user, performed locally. Prints the runtime, then "
+      "frames, tracking and network counts; exit 1 if OpenXR or the session fails, 2 for bad "
+      "flags or files");
   xr_cmd->add_option("--site", xr.site, "This site (the headset user's room)")
       ->capture_default_str()
       ->check(CLI::ExistingFile);
   xr_cmd
       ->add_option("--remote-site", xr.remote_site,
-                   "The other site, whose virtual_user plays the remote person")
+                   "Without --host/--join: the other site, whose virtual_user plays the remote "
+                   "person")
       ->capture_default_str()
       ->check(CLI::ExistingFile);
   xr_cmd
@@ -324,6 +337,35 @@ int main(int argc, char** argv) {
   add_weights_dir_flag(xr_cmd, xr.weights_dir);
   xr_cmd->add_flag("--headless", xr.headless,
                    "XR_MND_headless: a session without graphics (nothing is rendered)");
+  CLI::Option* xr_host = xr_cmd->add_flag(
+      "--host", [&xr](std::int64_t) { xr.network = xr.host = true; },
+      "Host a session others join (prints \"port N\" once the user is calibrated)");
+  add_endpoint_option(
+      xr_cmd, "--join", xr.address, xr.port,
+      [&xr] {
+        xr.network = true;
+        xr.host = false;
+      },
+      "Join the host at HOST:PORT")
+      ->excludes(xr_host);
+  xr_cmd->add_option("--port", xr.port, "With --host: UDP port (0: any free port)")
+      ->capture_default_str()
+      ->needs(xr_host);
+  xr_cmd->add_option("--bind", xr.address, "With --host: address to listen on")
+      ->capture_default_str()
+      ->needs(xr_host);
+  xr_cmd->add_option("--passphrase", xr.passphrase, "The session's passphrase (both sites)");
+  xr_cmd->add_option("--wait", xr.wait, "Seconds to wait for the other site")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 3600.0));
+  xr_cmd->add_option("--hand", xr.hand, "The headset user's pointing hand")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"right", "left"}));
+  xr_cmd
+      ->add_option("--height", xr.height,
+                   "The headset user's stature in m (default: from the eye height when the "
+                   "session starts)")
+      ->check(CLI::Range(1.0, 2.3));
 
   // `deixis sim` (docs/sim.md).
   deixis::app::SimOptions sim;

@@ -46,30 +46,48 @@ SiteSession::~SiteSession() {
 }
 
 void SiteSession::connect(const SiteClock& clock, double timeout) {
-  const double deadline = clock.now() + timeout;
-  session_->start(clock.now());
-  while (session_->state() != net::SessionState::kStreaming) {
-    const double now = clock.now();
-    if (session_->state() == net::SessionState::kRefused) {
-      throw Error(refusal_message(session_->status(), options_.role));
+  start(clock.now(), timeout);
+  while (!streaming()) {
+    poll(clock.now());
+    if (!streaming()) {
+      session_->service(clock.now(), 5);
     }
-    if (now > deadline) {
-      std::string what = options_.role == net::Role::kHost
-                             ? "no site joined within " + std::to_string(timeout) + " s"
-                             : "could not reach the host " + options_.address + ":" +
-                                   std::to_string(options_.port) + " within " +
-                                   std::to_string(timeout) + " s";
-      const net::PeerStatus& status = session_->status();
-      if (status.auth_failures > 0) {
-        what +=
-            " (" + std::to_string(status.auth_failures) + " joiner(s) refused: wrong passphrase)";
-      } else if (status.last_end != net::EndCause::kNone) {
-        what += " (last attempt: " + std::string(net::end_cause_name(status.last_end)) + ")";
-      }
-      throw Error(what);
-    }
-    session_->service(now, 5);
   }
+}
+
+void SiteSession::start(double now, double timeout) {
+  deadline_ = now + timeout;
+  timeout_ = timeout;
+  session_->start(now);
+}
+
+bool SiteSession::streaming() const {
+  return session_->state() == net::SessionState::kStreaming;
+}
+
+void SiteSession::poll(double now) {
+  session_->service(now, 0);
+  if (session_->state() == net::SessionState::kRefused) {
+    throw Error(refusal_message(session_->status(), options_.role));
+  }
+  if (session_->status().streams == 0 && !streaming() && now > deadline_) {
+    fail_to_connect(timeout_);
+  }
+}
+
+void SiteSession::fail_to_connect(double timeout) const {
+  std::string what = options_.role == net::Role::kHost
+                         ? "no site joined within " + std::to_string(timeout) + " s"
+                         : "could not reach the host " + options_.address + ":" +
+                               std::to_string(options_.port) + " within " +
+                               std::to_string(timeout) + " s";
+  const net::PeerStatus& status = session_->status();
+  if (status.auth_failures > 0) {
+    what += " (" + std::to_string(status.auth_failures) + " joiner(s) refused: wrong passphrase)";
+  } else if (status.last_end != net::EndCause::kNone) {
+    what += " (last attempt: " + std::string(net::end_cause_name(status.last_end)) + ")";
+  }
+  throw Error(what);
 }
 
 void SiteSession::close(double now) {

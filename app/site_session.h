@@ -47,6 +47,13 @@ class SiteSession {
   // when the peer refuses us (or we it, for a joiner) or nobody streams within `timeout` s.
   void connect(const SiteClock& clock, double timeout);
 
+  // The same without blocking, for a loop that must keep running (an OpenXR frame loop): start()
+  // once, then poll() every tick until streaming() — it services the link without waiting and
+  // throws as connect() does, `timeout` s after start().
+  void start(double now, double timeout);
+  void poll(double now);
+  bool streaming() const;
+
   net::Session& session() { return *session_; }
   const net::Session& session() const { return *session_; }
   const net::EnetLink& link() const { return *link_; }
@@ -55,7 +62,11 @@ class SiteSession {
   void close(double now);
 
  private:
+  [[noreturn]] void fail_to_connect(double timeout) const;
+
   SiteSessionOptions options_;
+  double deadline_ = 0.0;  // of start(), until the first stream
+  double timeout_ = 0.0;
   std::unique_ptr<net::EnetLink> link_;
   std::unique_ptr<net::Session> session_;
   bool closed_ = false;

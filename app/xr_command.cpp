@@ -1,22 +1,28 @@
-// `deixis xr`: the headset user's side through OpenXR (docs/xr.md). This first version runs
-// without networking: the remote person is the other site's scripted virtual user, performed
-// locally in their room and translated into this room by presence::RemoteAvatar at 30 Hz of
-// display time; each frame the headset user's tracking is read from the runtime and both eyes
-// see this room, its objects and the remote person's avatar.
+// `deixis xr`: the headset user's side through OpenXR (docs/xr.md). Each frame the headset
+// user's tracking is read from the runtime and both eyes see this room, its objects and the
+// remote person's avatar. The remote person is either another site (--host / --join: the user's
+// tracking goes out at 30 Hz with targets selected from it, app/xr_peer.h) or, without a network,
+// the other site's scripted virtual user performed locally; either way presence::RemoteAvatar
+// translates them into this room at 30 Hz of display time.
 
 #include <cstdio>
+#include <exception>
 #include <optional>
 #include <string>
 
 #include "app/commands.h"
 #include "app/moe_weights.h"
 #include "app/site_config.h"
+#include "app/site_session.h"
+#include "app/xr_peer.h"
 #include "avatar/avatar_loader.h"
 #include "capture/subject.h"
 #include "capture/virtual_user.h"
 #include "gesture/error.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
+#include "gesture/target_selection.h"
+#include "gesture/upright_calibration.h"
 #include "ik/avatar_solver.h"
 #include "presence/remote_avatar.h"
 #include "render/headless_context.h"
@@ -56,33 +62,47 @@ capture::ScriptPerformance perform_remote(const SiteConfig& remote, const ik::Av
   }
 }
 
-// Joins the OpenXR frame loop to the translator and the renderer; allocates nothing per frame.
+// The remote person when there is no network: the other site's script, performed locally and
+// translated tick by tick.
+struct LocalRemote {
+  const capture::ScriptPerformance& performance;
+  presence::RemoteAvatar& avatar;
+};
+
+// What a networked headset site needs to meet the other site once its user is calibrated.
+struct NetworkSetup {
+  XrPeerOptions options;
+  UprightBody body;
+  const std::array<Networks, 2>* networks = nullptr;
+  const ik::AvatarSolver* solver = nullptr;
+};
+
+// Joins the OpenXR frame loop to the translator and the renderer; allocates nothing per frame
+// once the remote person is there (meeting them builds their avatar once).
 class XrSink final : public xr::FrameSink {
  public:
-  XrSink(const SiteConfig& site, const capture::ScriptPerformance& remote,
-         presence::RemoteAvatar& avatar, render::Renderer& renderer, render::SkinnedMeshId mesh)
-      : site_(site), remote_(remote), avatar_(avatar), renderer_(renderer), mesh_(mesh) {}
+  XrSink(const SiteConfig& site, render::Renderer& renderer, render::SkinnedMeshId mesh,
+         const Vec3& remote_head_at_rest)
+      : site_(site), renderer_(renderer), mesh_(mesh), remote_head_(remote_head_at_rest) {}
+
+  void use_local(const LocalRemote& local) { local_.emplace(local); }
+  void use_network(const NetworkSetup& setup) { network_ = setup; }
 
   void on_frame(const xr::FrameInfo& frame, const TrackingFrame& user) override {
-    if ((user.valid & tracked::kHead) != 0) {
-      user_head_ = user.T_world_head.translation;
+    if (failed_) {
+      return;
     }
-    for (std::uint8_t bit = 1; bit <= tracked::kRightHand;
-         bit = static_cast<std::uint8_t>(bit << 1)) {
-      valid_counts_[bit == tracked::kHead       ? 0
-                    : bit == tracked::kGaze     ? 1
-                    : bit == tracked::kLeftHand ? 2
-                                                : 3] += (user.valid & bit) != 0 ? 1 : 0;
-    }
-    ++frames_;
-    const auto& frames = remote_.sequence.frames;
-    const LocalTargets room{&site_.target_map, user_head_};
-    while (static_cast<double>(ticks_) * kTick <= frame.seconds && !frames.empty()) {
-      const std::size_t i = std::min<std::size_t>(ticks_, frames.size() - 1);
-      TrackingFrame f = frames[i];
-      f.time = static_cast<double>(ticks_) * kTick;
-      visible_ticks_ += avatar_.tick(&f, room) ? 1 : 0;
-      ++ticks_;
+    count_tracking(user);
+    try {
+      if (network_) {
+        networked_frame(frame, user);
+      } else {
+        local_frame(frame);
+      }
+    } catch (const std::exception& e) {
+      // Ends the session through the lifecycle (wants_exit) rather than unwinding mid-frame.
+      error_ = e.what();
+      failed_ = true;
     }
   }
 
@@ -90,11 +110,20 @@ class XrSink final : public xr::FrameSink {
                    const render::RenderTarget& target) override {
     render::SceneView view;
     view.camera = camera;
-    if (avatar_.visible()) {
-      avatars_[0] = {mesh_, avatar_.T_world_model(), avatar_.model_pose()};
+    if (const presence::RemoteAvatar* avatar = shown_avatar()) {
+      avatars_[0] = {mesh_, avatar->T_world_model(), avatar->model_pose()};
       view.avatars = avatars_;
     }
     renderer_.render(view, target);
+  }
+
+  bool wants_exit() const override { return failed_; }
+  const std::string& error() const { return error_; }
+
+  void close(double now) {
+    if (peer_) {
+      peer_->close(now);
+    }
   }
 
   void print_summary(const xr::FrameLoopResult& r) const {
@@ -108,74 +137,186 @@ class XrSink final : public xr::FrameSink {
         static_cast<unsigned long long>(valid_counts_[1]),
         static_cast<unsigned long long>(valid_counts_[2]),
         static_cast<unsigned long long>(valid_counts_[3]));
+    if (peer_) {
+      const XrPeerStats& n = peer_->stats();
+      std::printf("network: site %s, tracking sent %llu, frames played %llu (%llu missed)\n",
+                  n.peer_site.c_str(), static_cast<unsigned long long>(n.sent),
+                  static_cast<unsigned long long>(n.played),
+                  static_cast<unsigned long long>(n.missed));
+    }
   }
 
  private:
+  void count_tracking(const TrackingFrame& user) {
+    if ((user.valid & tracked::kHead) != 0) {
+      user_head_ = user.T_world_head.translation;
+    }
+    for (std::size_t part = 0; part < valid_counts_.size(); ++part) {
+      valid_counts_[part] += (user.valid & (1u << part)) != 0 ? 1 : 0;
+    }
+  }
+
+  void local_frame(const xr::FrameInfo& frame) {
+    const auto& frames = local_->performance.sequence.frames;
+    const LocalTargets room{&site_.target_map, user_head_};
+    while (static_cast<double>(ticks_) * kTick <= frame.seconds && !frames.empty()) {
+      const std::size_t i = std::min<std::size_t>(ticks_, frames.size() - 1);
+      TrackingFrame f = frames[i];
+      f.time = static_cast<double>(ticks_) * kTick;
+      visible_ticks_ += local_->avatar.tick(&f, room) ? 1 : 0;
+      ++ticks_;
+    }
+  }
+
+  void networked_frame(const xr::FrameInfo& frame, const TrackingFrame& user) {
+    if (!peer_) {
+      if ((user.valid & tracked::kHead) == 0) {
+        return;  // calibration waits for the head
+      }
+      meet(user);
+    }
+    while (static_cast<double>(ticks_) * kTick <= frame.seconds) {
+      // The user designates what they look and point at in this room; the other person is
+      // where their avatar's eyes are.
+      TrackingFrame out = user;
+      const presence::RemoteAvatar* avatar = peer_->visible_avatar();
+      selector_.select(out, site_.target_map,
+                       avatar != nullptr ? avatar->eye_midpoint() : remote_head_);
+      const LocalTargets room{&site_.target_map, user_head_};
+      peer_->tick(out, clock_.now(), room);
+      visible_ticks_ += peer_->visible_avatar() != nullptr ? 1 : 0;
+      ++ticks_;
+    }
+  }
+
+  // The user stands upright when the session starts: their calibration goes in the hello.
+  void meet(const TrackingFrame& upright) {
+    const BodyCalibration calibration = calibrate_upright(upright, network_->body);
+    selector_.config = target_selection_for(calibration);
+    std::printf("calibrated: stature %.2f m, arm %.2f m, %s hand\n",
+                static_cast<double>(calibration.height),
+                static_cast<double>(calibration.arm_length),
+                calibration.deictic_hand == Hand::kLeft ? "left" : "right");
+    peer_.emplace(network_->options, site_, calibration, *network_->networks, *network_->solver,
+                  clock_.now());
+    if (network_->options.role == net::Role::kHost) {
+      std::printf("port %u\n", static_cast<unsigned>(peer_->port()));
+    }
+    std::fflush(stdout);
+  }
+
+  const presence::RemoteAvatar* shown_avatar() const {
+    if (peer_) {
+      return peer_->visible_avatar();
+    }
+    return local_ && local_->avatar.visible() ? &local_->avatar : nullptr;
+  }
+
   const SiteConfig& site_;
-  const capture::ScriptPerformance& remote_;
-  presence::RemoteAvatar& avatar_;
   render::Renderer& renderer_;
   render::SkinnedMeshId mesh_;
+  Vec3 remote_head_;
+  std::optional<LocalRemote> local_;
+  std::optional<NetworkSetup> network_;
+  std::optional<XrPeer> peer_;
+  TargetSelector selector_;
+  SiteClock clock_;
   std::array<render::AvatarDraw, 1> avatars_;
   Vec3 user_head_ = Vec3(0, 1.6f, 0);
-  std::uint64_t frames_ = 0;
   std::uint64_t ticks_ = 0;
   std::uint64_t visible_ticks_ = 0;
-  std::array<std::uint64_t, 4> valid_counts_{};
+  std::array<std::uint64_t, 4> valid_counts_{};  // head, gaze, left hand, right hand
+  bool failed_ = false;
+  std::string error_;
 };
+
+// Everything read before OpenXR starts; any error here is a bad input (exit 2).
+struct XrAssets {
+  SiteConfig site;
+  avatar::Avatar avatar;
+  ik::AvatarSolver solver;
+  std::array<Networks, 2> networks;                  // by the remote person's deictic hand
+  std::optional<capture::ScriptPerformance> remote;  // without a network
+};
+
+XrAssets load_assets(const XrRunOptions& o) {
+  SiteConfig site = read_site_config(o.site);
+  avatar::Avatar avatar = avatar::load_avatar(site.avatar_path);
+  ik::AvatarSolver solver = ik::AvatarSolver::build(avatar.rig);
+  std::array<Networks, 2> networks = {load_moe_networks(o.weights_dir, Hand::kLeft),
+                                      load_moe_networks(o.weights_dir, Hand::kRight)};
+  std::optional<capture::ScriptPerformance> remote;
+  if (!o.network) {
+    remote = perform_remote(read_site_config(o.remote_site), solver, o.remote_site, o.seconds);
+  }
+  return {std::move(site), std::move(avatar), std::move(solver), std::move(networks),
+          std::move(remote)};
+}
+
+int run_session(const XrRunOptions& o, XrAssets& a) {
+  const Pose remote_floor = a.site.remote_avatar.T_world_floor();
+  std::optional<presence::RemoteAvatar> local_avatar;
+  if (a.remote) {
+    const Networks& n =
+        a.networks[static_cast<std::size_t>(index(a.remote->sequence.calibration.deictic_hand))];
+    local_avatar.emplace(
+        n.mpnet, n.ugnet, a.solver,
+        presence::RemoteAvatarConfig{a.remote->sequence.calibration, remote_floor, 1, true});
+  }
+  // The EGL context the OpenXR session binds to; the views go to the swapchains.
+  render::HeadlessContext context(16, 16);
+  render::Renderer renderer;
+  renderer.set_targets(a.site.target_map);
+  const render::SkinnedMeshId mesh = renderer.add_skinned_mesh(a.avatar.mesh);
+  xr::Instance instance(xr::InstanceOptions{o.headless, true, true, "deixis xr"});
+  std::printf("OpenXR: %s; hand tracking %s, eye gaze %s\n", instance.description().c_str(),
+              instance.features().hand_tracking ? "yes" : "no (controller poses)",
+              instance.features().eye_gaze ? "yes" : "no");
+  xr::GlSession session(instance);
+  xr::Swapchains swapchains(instance, session);
+  xr::Input input(instance, session);
+  xr::FrameLoop loop(instance, session, swapchains, input);
+  XrSink sink(a.site, renderer, mesh, presence::avatar_origin(a.solver, remote_floor).translation);
+  if (local_avatar) {
+    sink.use_local({*a.remote, *local_avatar});
+  } else {
+    XrPeerOptions peer{o.host ? net::Role::kHost : net::Role::kJoiner, o.address, o.port,
+                       o.passphrase, o.wait};
+    sink.use_network({peer, UprightBody{o.hand == "left" ? Hand::kLeft : Hand::kRight, o.height, 0},
+                      &a.networks, &a.solver});
+  }
+  xr::FrameLoopOptions options;
+  options.seconds = o.seconds;
+  const xr::FrameLoopResult result = loop.run(options, sink);
+  sink.close(0.0);
+  sink.print_summary(result);
+  if (!sink.error().empty()) {
+    std::fprintf(stderr, "deixis xr: %s\n", sink.error().c_str());
+    return 1;
+  }
+  if (result.lost) {
+    std::fprintf(stderr, "deixis xr: the OpenXR session was lost\n");
+    return 1;
+  }
+  return 0;
+}
 
 }  // namespace
 
 int run_xr(const XrRunOptions& o) {
-  std::optional<SiteConfig> site;
-  std::optional<SiteConfig> remote_site;
-  std::optional<avatar::Avatar> avatar;
-  std::optional<ik::AvatarSolver> solver;
-  std::optional<capture::ScriptPerformance> remote;
-  std::optional<Networks> networks;
+  std::optional<XrAssets> assets;
   try {
-    site = read_site_config(o.site);
-    remote_site = read_site_config(o.remote_site);
-    avatar = avatar::load_avatar(site->avatar_path);
-    solver = ik::AvatarSolver::build(avatar->rig);
-    remote = perform_remote(*remote_site, *solver, o.remote_site, o.seconds);
-    networks = load_moe_networks(o.weights_dir, remote->sequence.calibration.deictic_hand);
+    assets.emplace(load_assets(o));
   } catch (const Error& e) {
     std::fprintf(stderr, "deixis xr: %s\n", e.what());
     return 2;
   }
   try {
-    presence::RemoteAvatar remote_avatar(
-        networks->mpnet, networks->ugnet, *solver,
-        presence::RemoteAvatarConfig{remote->sequence.calibration,
-                                     site->remote_avatar.T_world_floor(), 1, true});
-    // The EGL context the OpenXR session binds to; the views go to the swapchains.
-    render::HeadlessContext context(16, 16);
-    render::Renderer renderer;
-    renderer.set_targets(site->target_map);
-    const render::SkinnedMeshId mesh = renderer.add_skinned_mesh(avatar->mesh);
-    xr::Instance instance(xr::InstanceOptions{o.headless, true, true, "deixis xr"});
-    std::printf("OpenXR: %s; hand tracking %s, eye gaze %s\n", instance.description().c_str(),
-                instance.features().hand_tracking ? "yes" : "no (controller poses)",
-                instance.features().eye_gaze ? "yes" : "no");
-    xr::GlSession session(instance);
-    xr::Swapchains swapchains(instance, session);
-    xr::Input input(instance, session);
-    xr::FrameLoop loop(instance, session, swapchains, input);
-    XrSink sink(*site, *remote, remote_avatar, renderer, mesh);
-    xr::FrameLoopOptions options;
-    options.seconds = o.seconds;
-    const xr::FrameLoopResult result = loop.run(options, sink);
-    sink.print_summary(result);
-    if (result.lost) {
-      std::fprintf(stderr, "deixis xr: the OpenXR session was lost\n");
-      return 1;
-    }
+    return run_session(o, *assets);
   } catch (const Error& e) {
     std::fprintf(stderr, "deixis xr: %s\n", e.what());
     return 1;
   }
-  return 0;
 }
 
 }  // namespace deixis::app

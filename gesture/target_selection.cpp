@@ -66,12 +66,36 @@ float current_angle(TargetId current, const Vec3& origin, const Vec3& direction,
   return candidate_angle(origin, direction, fingertip, touch_m, object, object->position);
 }
 
+// Without a pointing ray: the object the fingertip touches (0°), if any.
+Nearest touched(const Vec3& tip, float touch_m, const TargetMap& room) {
+  for (const TargetObject& object : room.objects) {
+    if ((tip - closest_surface_point(object, tip)).norm() <= touch_m) {
+      return {object.id, 0.0f};
+    }
+  }
+  return {};
+}
+
+float touch_angle(TargetId current, const Vec3& tip, float touch_m, const TargetMap& room) {
+  const TargetObject* object = room.find(current);
+  return object != nullptr && (tip - closest_surface_point(*object, tip)).norm() <= touch_m
+             ? 0.0f
+             : std::numeric_limits<float>::infinity();
+}
+
 // Whether `best` takes over from `current`, with the hysteresis margin.
 bool takes_over(const Nearest& best, float current, const TargetSelectionConfig& c) {
   return best.angle_deg <= c.acquire_deg && best.angle_deg + c.switch_margin_deg < current;
 }
 
 }  // namespace
+
+TargetSelectionConfig target_selection_for(const BodyCalibration& body) {
+  TargetSelectionConfig c;
+  c.deictic_hand = body.deictic_hand;
+  c.pointing_reach_m = 0.6f * body.arm_length;
+  return c;
+}
 
 void TargetSelector::select(TrackingFrame& frame, const TargetMap& room, const Vec3& partner_head) {
   const Vec3 head = frame.T_world_head.translation;
@@ -91,13 +115,27 @@ void TargetSelector::select(TrackingFrame& frame, const TargetMap& room, const V
   if (head_tracked && (frame.valid & tracked::hand(hand)) != 0) {
     const Vec3& tip = frame.index_tip[static_cast<std::size_t>(index(hand))];
     const Vec3 ray = tip - head;
-    const Nearest best = nearest(head, ray, &tip, config.touch_m, room, partner_head);
+    // A hand nearer than the pointing reach designates only what it touches.
+    const bool extended = ray.norm() >= config.pointing_reach_m;
+    const Nearest best = extended ? nearest(head, ray, &tip, config.touch_m, room, partner_head)
+                                  : touched(tip, config.touch_m, room);
     const float current =
-        current_angle(hand_target, head, ray, &tip, config.touch_m, room, partner_head);
+        extended ? current_angle(hand_target, head, ray, &tip, config.touch_m, room, partner_head)
+                 : touch_angle(hand_target, tip, config.touch_m, room);
+    bool switched = false;
     if (best.id != hand_target && takes_over(best, current, config)) {
+      const bool at_once = best.id == head_target;  // the eyes are on it already
+      pending_ticks = best.id == pending_hand_target ? pending_ticks + 1 : 1;
+      pending_hand_target = best.id;
+      switched = at_once || pending_ticks >= config.dwell_ticks;
+    } else {
+      pending_hand_target = kNoTarget;
+    }
+    if (switched) {
       hand_target = best.id;
+      pending_hand_target = kNoTarget;
     } else if (current > config.acquire_deg) {
-      // The hand designates nothing: it will point where the eyes are.
+      // The hand designates nothing (yet): it will point where the eyes are.
       hand_target = head_target;
     }
   }

@@ -64,8 +64,8 @@ FrameLoopResult FrameLoop::run(const FrameLoopOptions& options, FrameSink& sink)
   auto idle_since = Clock::now();
   while (!machine_.finished) {
     const bool events = poll_events();
-    if (options.seconds > 0.0 && seconds_ >= options.seconds && !machine_.exit_requested &&
-        !machine_.finished) {
+    const bool time_is_up = options.seconds > 0.0 && seconds_ >= options.seconds;
+    if ((time_is_up || sink.wants_exit()) && !machine_.exit_requested && !machine_.finished) {
       apply({SessionEventKind::kExitRequested, SessionState::kUnknown});
     }
     if (machine_.finished) {

@@ -40,6 +40,9 @@ class FrameSink {
   // Draw view `view` (0 left, 1 right) into `target` from `camera`.
   virtual void render_view(std::uint32_t view, const render::Camera& camera,
                            const render::RenderTarget& target) = 0;
+  // True once the application wants to stop (e.g. its network session failed): the loop asks
+  // the runtime to exit and ends the session through the lifecycle, as for `seconds`.
+  virtual bool wants_exit() const { return false; }
 };
 
 struct FrameLoopOptions {

@@ -1,11 +1,17 @@
 // The frame loop: xrWaitFrame, xrBeginFrame, xrEndFrame, in that order, one frame at a time.
-// Display times are predicted on a virtual clock (one display period per frame, no sleeping, so
-// tests run as fast as the application renders) and each ended frame is recorded.
+// Display times are predicted on a virtual clock (one display period per frame) and each ended
+// frame is recorded. By default nothing sleeps, so tests run as fast as the application renders;
+// a script with "realtime": true paces xrWaitFrame to the wall clock like a headset's compositor
+// (for sessions that talk to other processes running in real time).
 //
 // Stricter than the spec where the spec lets a runtime block: a second xrWaitFrame before the
 // previous one's xrBeginFrame is refused with XR_ERROR_CALL_ORDER_INVALID (a single-threaded
 // runtime would otherwise wait forever), and xrEndFrame must carry the display time predicted for
 // the frame it ends (XR_ERROR_TIME_INVALID otherwise).
+
+#include <chrono>
+#include <mutex>
+#include <thread>
 
 #include "xr_test_runtime/api.h"
 
@@ -24,7 +30,7 @@ XrResult check(const Runtime& rt, XrSession session) {
 
 XrResult XRAPI_CALL WaitFrame(XrSession session, const XrFrameWaitInfo* info, XrFrameState* frame) {
   Runtime& rt = state();
-  std::lock_guard lock(rt.mutex);
+  std::unique_lock lock(rt.mutex);
   if (const XrResult r = check(rt, session); r != XR_SUCCESS) {
     return r == XR_ERROR_HANDLE_INVALID ? r : rt.refuse("xrWaitFrame", r);
   }
@@ -42,6 +48,17 @@ XrResult XRAPI_CALL WaitFrame(XrSession session, const XrFrameWaitInfo* info, Xr
   frame->shouldRender = (s.state == XR_SESSION_STATE_VISIBLE || s.state == XR_SESSION_STATE_FOCUSED)
                             ? XR_TRUE
                             : XR_FALSE;
+  if (rt.script.realtime) {
+    // Frame n is due n periods after the first xrWaitFrame, on the wall clock.
+    using Clock = std::chrono::steady_clock;
+    if (s.waited == 1) {
+      s.wall_start = Clock::now();
+    }
+    const auto due =
+        s.wall_start + std::chrono::nanoseconds(static_cast<XrTime>(s.waited - 1) * rt.period());
+    lock.unlock();
+    std::this_thread::sleep_until(due);
+  }
   return XR_SUCCESS;
 }
 

@@ -9,6 +9,7 @@
 #include <openxr/openxr.h>
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <deque>
 #include <map>
@@ -66,6 +67,7 @@ struct SessionObject {
   std::uint64_t ended = 0;   // frames ended
   bool frame_open = false;   // between xrBeginFrame and xrEndFrame
   XrTime begun_display_time = 0;
+  std::chrono::steady_clock::time_point wall_start;  // the first xrWaitFrame (realtime scripts)
 };
 
 struct Runtime {

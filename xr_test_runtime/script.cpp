@@ -131,6 +131,12 @@ std::optional<Script> load_script(const std::string& path, std::string& error) {
     if (j.contains("ipd")) {
       s.ipd = number(j["ipd"], "ipd");
     }
+    if (j.contains("realtime")) {
+      if (!j["realtime"].is_boolean()) {
+        throw ParseError{"realtime: expected true or false"};
+      }
+      s.realtime = j["realtime"].get<bool>();
+    }
     for (auto [key, field] :
          {std::pair{"frames", &s.frames}, std::pair{"lose_after_frames", &s.lose_after_frames}}) {
       if (j.contains(key)) {

@@ -40,6 +40,9 @@ struct Script {
   float ipd = 0.063f;           // m between the two views
   long frames = 0;              // after this many ended frames the runtime asks to exit; 0: never
   long lose_after_frames = 0;   // then LOSS_PENDING instead of STOPPING (tests); 0: never
+  bool realtime = false;        // xrWaitFrame sleeps until the frame's wall-clock time, as a
+                                // headset's compositor paces frames (for runs that talk to
+                                // real-time processes); false: frames as fast as the app goes
   std::vector<ScriptKey> keys;  // ascending t, at least one
 
   ScriptSample at(double t) const;

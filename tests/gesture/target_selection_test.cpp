@@ -53,6 +53,17 @@ TrackingFrame user(const Vec3& gaze, const Vec3* tip = nullptr) {
   return f;
 }
 
+// Selects the same frame `ticks` times, as a held pose is over that many ticks.
+TrackingFrame held(TargetSelector& selector, const TrackingFrame& frame, const Room& room,
+                   int ticks) {
+  TrackingFrame f = frame;
+  for (int i = 0; i < ticks; ++i) {
+    f = frame;
+    selector.select(f, room.map, room.partner);
+  }
+  return f;
+}
+
 TEST(TargetSelection, GazePicksTheHeadTargetAndTheRestingHandFollowsIt) {
   const Room room;
   TargetSelector selector;
@@ -68,8 +79,11 @@ TEST(TargetSelection, TheEyeFingertipRayPicksTheHandTarget) {
   const Room room;
   TargetSelector selector;
   const Vec3 tip = kHead + 0.6f * direction(-31, -11);  // arm out toward object 3
-  TrackingFrame f = user(direction(0, -10), &tip);
-  selector.select(f, room.map, room.partner);
+  const TrackingFrame pointing = user(direction(0, -10), &tip);
+  // The eyes are on object 2: pointing at 3 counts once held for the dwell, not on the way.
+  TrackingFrame f = held(selector, pointing, room, selector.config.dwell_ticks - 1);
+  EXPECT_EQ(f.hand_target, 2);
+  f = held(selector, pointing, room, 1);
   EXPECT_EQ(f.head_target, 2);
   EXPECT_EQ(f.hand_target, 3);
   EXPECT_TRUE(f.hand_target_position.isApprox(room.map.objects[2].position));
@@ -79,10 +93,21 @@ TEST(TargetSelection, ATouchPicksTheTouchedObjectWhateverTheRay) {
   Room room;
   room.map.objects.push_back(sphere(4, Vec3(0.35f, 1.0f, -0.3f)));  // low, beside the body
   TargetSelector selector;
-  const Vec3 tip = Vec3(0.35f, 1.0f, -0.3f) + Vec3(0.0f, 0.09f, 0.0f);  // 4 cm above its surface
-  TrackingFrame f = user(direction(0, -10), &tip);
-  selector.select(f, room.map, room.partner);
+  const Vec3 tip = Vec3(0.35f, 1.0f, -0.3f) + Vec3(0.0f, 0.08f, 0.0f);  // 3 cm above its surface
+  const TrackingFrame f = held(selector, user(direction(0, -10), &tip), room, 6);
   EXPECT_EQ(f.hand_target, 4);
+  // Brushing past it (0.1 s) while looking elsewhere is not touching it.
+  TargetSelector passing;
+  EXPECT_EQ(held(passing, user(direction(0, -10), &tip), room, 3).hand_target, 2);
+}
+
+TEST(TargetSelection, AHandNearTheBodyDoesNotPointWhateverItsRay) {
+  const Room room;
+  TargetSelector selector;
+  // Gesturing in front of the chest, the eye–fingertip ray happens to cross object 3.
+  const Vec3 tip = kHead + 0.3f * direction(-30, -10);
+  const TrackingFrame f = held(selector, user(direction(0, -10), &tip), room, 10);
+  EXPECT_EQ(f.hand_target, 2);  // it follows the eyes
 }
 
 TEST(TargetSelection, LookingAtTheOtherPersonSelectsThem) {
@@ -141,8 +166,7 @@ TEST(TargetSelection, AnUntrackedHandKeepsItsTarget) {
   const Room room;
   TargetSelector selector;
   const Vec3 tip = kHead + 0.6f * direction(30, -10);
-  TrackingFrame f = user(direction(0, -10), &tip);
-  selector.select(f, room.map, room.partner);
+  const TrackingFrame f = held(selector, user(direction(0, -10), &tip), room, 6);
   ASSERT_EQ(f.hand_target, 1);
   TrackingFrame lost = user(direction(-30, -10));
   lost.valid = tracked::kHead | tracked::kGaze;
@@ -158,8 +182,7 @@ TEST(TargetSelection, TheLeftHandWhenItIsTheDeicticOne) {
   TrackingFrame f = user(direction(0, -10));
   f.index_tip[index(Hand::kLeft)] = kHead + 0.6f * direction(30, -10);
   f.index_tip[index(Hand::kRight)] = kHead + 0.6f * direction(-30, -10);  // not the deictic hand
-  selector.select(f, room.map, room.partner);
-  EXPECT_EQ(f.hand_target, 1);
+  EXPECT_EQ(held(selector, f, room, 6).hand_target, 1);
 }
 
 }  // namespace

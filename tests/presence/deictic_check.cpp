@@ -173,7 +173,7 @@ std::vector<TrackingFrame> with_selected_targets(const capture::Sequence& s,
     }
   }
   TargetSelector selector;
-  selector.config.deictic_hand = s.calibration.deictic_hand;
+  selector.config = target_selection_for(s.calibration);
   for (TrackingFrame& f : frames) {
     selector.select(f, room_a, partner_head);
   }

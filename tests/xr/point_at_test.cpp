@@ -15,6 +15,7 @@
 #include "presence/deictic_check.h"
 #include "render/headless_context.h"
 #include "test_support.h"
+#include "tests/xr/runtime_script.h"
 #include "tests/xr/xr_fixture.h"
 #include "xr/frame_loop.h"
 #include "xr/gl_session.h"
@@ -26,43 +27,6 @@ namespace deixis::xr {
 namespace {
 
 namespace fs = std::filesystem;
-
-nlohmann::json vec(const Vec3& v) {
-  return {v.x(), v.y(), v.z()};
-}
-
-// A Deixis wrist frame as the OpenXR wrist joint it is read from (the inverse of
-// wrist_from_joint).
-nlohmann::json joint_of(const Pose& T_world_wrist, Hand hand) {
-  const Mat3 R_joint_wrist = wrist_from_joint(Pose{}, hand).rotation;
-  const Quat q(Mat3(T_world_wrist.rotation * R_joint_wrist.transpose()));
-  return {{"position", vec(T_world_wrist.translation)},
-          {"orientation", {q.x(), q.y(), q.z(), q.w()}}};
-}
-
-// The runtime's script for a captured sequence: one key per capture frame at 30 Hz.
-std::string script_of(const capture::Sequence& s) {
-  nlohmann::json keys = nlohmann::json::array();
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    const TrackingFrame& f = s.frames[i];
-    const Quat head(Mat3(f.T_world_head.rotation));
-    nlohmann::json key = {{"t", static_cast<double>(i) / 30.0},
-                          {"head",
-                           {{"position", vec(f.T_world_head.translation)},
-                            {"orientation", {head.x(), head.y(), head.z(), head.w()}}}},
-                          {"gaze", vec(f.gaze)}};
-    for (const Hand hand : {Hand::kLeft, Hand::kRight}) {
-      const auto h = static_cast<std::size_t>(index(hand));
-      key[hand == Hand::kLeft ? "left" : "right"] =
-          (f.valid & tracked::hand(hand)) == 0
-              ? nlohmann::json(nullptr)
-              : nlohmann::json{{"wrist", joint_of(f.T_world_wrist[h], hand)},
-                               {"index_tip", vec(f.index_tip[h])}};
-    }
-    keys.push_back(key);
-  }
-  return nlohmann::json{{"display_hz", 30}, {"frames", s.size()}, {"keys", keys}}.dump();
-}
 
 // Keeps each frame's tracking.
 class TrackingRecorder final : public FrameSink {
@@ -79,7 +43,7 @@ class HeadsetPointAt : public XrRuntimeTest {
 
   // The tracking a headset site reads for a performed sequence, with targets selected from it.
   std::vector<TrackingFrame> through_the_headset(const capture::Sequence& s) {
-    write_script(script_of(s));
+    write_script(runtime_script(s.frames, false));
     render::HeadlessContext context(16, 16);
     InstanceOptions options;
     options.headless = true;
