@@ -1,7 +1,7 @@
 // `deixis xr`: the headset user's side through OpenXR (docs/xr.md). Each frame the headset
 // user's tracking is read from the runtime and both eyes see this room, its objects and the
 // remote person's avatar. The remote person is either another site (--host / --join: the user's
-// tracking goes out at 30 Hz with targets selected from it, app/xr_peer.h) or, without a network,
+// tracking goes out at 30 Hz with targets selected from it, app/site_peer.h) or, without a network,
 // the other site's scripted virtual user performed locally; either way presence::RemoteAvatar
 // translates them into this room at 30 Hz of display time.
 
@@ -13,8 +13,8 @@
 #include "app/commands.h"
 #include "app/moe_weights.h"
 #include "app/site_config.h"
+#include "app/site_peer.h"
 #include "app/site_session.h"
-#include "app/xr_peer.h"
 #include "avatar/avatar_loader.h"
 #include "capture/subject.h"
 #include "capture/virtual_user.h"
@@ -71,7 +71,7 @@ struct LocalRemote {
 
 // What a networked headset site needs to meet the other site once its user is calibrated.
 struct NetworkSetup {
-  XrPeerOptions options;
+  SitePeerOptions options;
   UprightBody body;
   const std::array<Networks, 2>* networks = nullptr;
   const ik::AvatarSolver* solver = nullptr;
@@ -138,7 +138,7 @@ class XrSink final : public xr::FrameSink {
         static_cast<unsigned long long>(valid_counts_[2]),
         static_cast<unsigned long long>(valid_counts_[3]));
     if (peer_) {
-      const XrPeerStats& n = peer_->stats();
+      const SitePeerStats& n = peer_->stats();
       std::printf("network: site %s, tracking sent %llu, frames played %llu (%llu missed)\n",
                   n.peer_site.c_str(), static_cast<unsigned long long>(n.sent),
                   static_cast<unsigned long long>(n.played),
@@ -218,7 +218,7 @@ class XrSink final : public xr::FrameSink {
   Vec3 remote_head_;
   std::optional<LocalRemote> local_;
   std::optional<NetworkSetup> network_;
-  std::optional<XrPeer> peer_;
+  std::optional<SitePeer> peer_;
   TargetSelector selector_;
   SiteClock clock_;
   std::array<render::AvatarDraw, 1> avatars_;
@@ -280,8 +280,8 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   if (local_avatar) {
     sink.use_local({*a.remote, *local_avatar});
   } else {
-    XrPeerOptions peer{o.host ? net::Role::kHost : net::Role::kJoiner, o.address, o.port,
-                       o.passphrase, o.wait};
+    SitePeerOptions peer{o.host ? net::Role::kHost : net::Role::kJoiner, o.address, o.port,
+                         o.passphrase, o.wait};
     sink.use_network({peer, UprightBody{o.hand == "left" ? Hand::kLeft : Hand::kRight, o.height, 0},
                       &a.networks, &a.solver});
   }

@@ -1,9 +1,11 @@
 #pragma once
-// The network side of a headset site (`deixis xr --host` / `--join`, docs/xr.md): the headset
-// user's tracking goes to the other site every 30 Hz tick; the other site's person comes back as
-// a translated avatar in this room (presence::RemoteAvatar), exactly as `deixis host` / `join`
-// do for a scripted user (app/site_run.cpp). Unlike them it never blocks: the OpenXR frame loop
-// must keep submitting frames, so connecting is polled tick by tick (SiteSession::start/poll).
+// The network side of a site with a live user (`deixis xr` and `deixis sim` with `--host` /
+// `--join`, docs/xr.md, docs/sim.md): the user's tracking goes to the other site every 30 Hz
+// tick; the other site's person comes back as a translated avatar in this room
+// (presence::RemoteAvatar), exactly as `deixis host` / `join` do for a scripted user
+// (app/site_run.cpp). Unlike them it never blocks: a headset's frame loop must keep submitting
+// frames and a window must keep drawing, so connecting is polled tick by tick
+// (SiteSession::start/poll).
 
 #include <array>
 #include <cstdint>
@@ -17,7 +19,7 @@
 
 namespace deixis::app {
 
-struct XrPeerOptions {
+struct SitePeerOptions {
   net::Role role = net::Role::kHost;
   std::string address = "0.0.0.0";  // host: where to listen; joiner: the host
   std::uint16_t port = 7350;        // host: 0 picks a free one
@@ -25,17 +27,17 @@ struct XrPeerOptions {
   double wait = 30.0;  // s for the other site to come
 };
 
-struct XrPeerStats {
+struct SitePeerStats {
   std::uint64_t ticks = 0, sent = 0, played = 0, missed = 0, visible_ticks = 0;
   std::string peer_site = "?";
 };
 
-class XrPeer {
+class SitePeer {
  public:
   // Binds (host) or resolves (joiner) at once; throws deixis::Error when it cannot. `user`: the
-  // headset user's calibration, sent in the hello.
-  XrPeer(const XrPeerOptions& options, const SiteConfig& site, const BodyCalibration& user,
-         const std::array<MoeNetworks, 2>& networks, const ik::AvatarSolver& solver, double now);
+  // user's calibration, sent in the hello.
+  SitePeer(const SitePeerOptions& options, const SiteConfig& site, const BodyCalibration& user,
+           const std::array<MoeNetworks, 2>& networks, const ik::AvatarSolver& solver, double now);
 
   std::uint16_t port() const { return net_.port(); }
 
@@ -46,7 +48,7 @@ class XrPeer {
 
   // The avatar to draw this tick; null while it must be hidden (no live stream, not yet ready).
   const presence::RemoteAvatar* visible_avatar() const;
-  const XrPeerStats& stats() const { return stats_; }
+  const SitePeerStats& stats() const { return stats_; }
   void close(double now) { net_.close(now); }
 
  private:
@@ -59,7 +61,7 @@ class XrPeer {
   std::optional<presence::RemoteAvatar> avatar_;
   std::uint64_t stream_ = 0;  // the connection the avatar belongs to
   bool live_ = false;
-  XrPeerStats stats_;
+  SitePeerStats stats_;
 };
 
 }  // namespace deixis::app

@@ -1,4 +1,4 @@
-#include "app/xr_peer.h"
+#include "app/site_peer.h"
 
 #include <spdlog/spdlog.h>
 
@@ -16,9 +16,9 @@ net::Hello hello_of(const SiteConfig& site, const BodyCalibration& user) {
 
 }  // namespace
 
-XrPeer::XrPeer(const XrPeerOptions& options, const SiteConfig& site, const BodyCalibration& user,
-               const std::array<MoeNetworks, 2>& networks, const ik::AvatarSolver& solver,
-               double now)
+SitePeer::SitePeer(const SitePeerOptions& options, const SiteConfig& site,
+                   const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
+                   const ik::AvatarSolver& solver, double now)
     : site_(site),
       networks_(networks),
       solver_(solver),
@@ -27,7 +27,7 @@ XrPeer::XrPeer(const XrPeerOptions& options, const SiteConfig& site, const BodyC
   net_.start(now, options.wait);
 }
 
-void XrPeer::meet_remote_person(const net::Hello& hello) {
+void SitePeer::meet_remote_person(const net::Hello& hello) {
   // A new connection (the first, or after a reconnect): the person may have changed.
   const BodyCalibration& person = hello.avatar.body;
   const MoeNetworks& n = networks_[static_cast<std::size_t>(index(person.deictic_hand))];
@@ -38,7 +38,7 @@ void XrPeer::meet_remote_person(const net::Hello& hello) {
   spdlog::info("streaming with site {}", hello.site);
 }
 
-void XrPeer::tick(const TrackingFrame& user, double now, const LocalTargets& room) {
+void SitePeer::tick(const TrackingFrame& user, double now, const LocalTargets& room) {
   ++stats_.ticks;
   net_.poll(now);
   net::Session& session = net_.session();
@@ -67,7 +67,7 @@ void XrPeer::tick(const TrackingFrame& user, double now, const LocalTargets& roo
   stats_.visible_ticks += visible_avatar() != nullptr ? 1 : 0;
 }
 
-const presence::RemoteAvatar* XrPeer::visible_avatar() const {
+const presence::RemoteAvatar* SitePeer::visible_avatar() const {
   return live_ && avatar_ && avatar_->visible() ? &*avatar_ : nullptr;
 }
 
