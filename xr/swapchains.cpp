@@ -15,7 +15,11 @@ namespace deixis::xr {
 
 namespace {
 
-// Preferred colour formats, best first (the renderer writes linear colour; sRGB encodes it).
+// Preferred colour formats, best first. The renderer's colours are display-referred, already
+// what a desktop shows as sRGB (no conversion, decision 29), so an sRGB swapchain must store them
+// unconverted: the compositor decodes sRGB images, and the headset shows what the desktop does.
+// (On an RGBA8 swapchain the compositor takes the same bytes as linear and the picture is darker;
+// runtimes offer sRGB swapchains, so that is a fallback only.) Decision 47.
 constexpr std::int64_t kColourFormats[] = {GL_SRGB8_ALPHA8, GL_RGBA8};
 
 }  // namespace
@@ -118,6 +122,8 @@ render::RenderTarget Swapchains::acquire(std::uint32_t i) {
     throw Error("xrAcquireSwapchainImage returned image " + std::to_string(image) + " of " +
                 std::to_string(v.framebuffers.size()));
   }
+  // Store the renderer's bytes as they are: no sRGB encoding on write (see kColourFormats).
+  glDisable(GL_FRAMEBUFFER_SRGB);
   return {v.framebuffers[image], v.width, v.height};
 }
 

@@ -18,6 +18,8 @@
 #include <nlohmann/json.hpp>
 
 #include "render/headless_context.h"
+#include "render/image.h"
+#include "render/offscreen_target.h"
 #include "render/renderer.h"
 #include "tests/xr/xr_fixture.h"
 #include "xr/frame_loop.h"
@@ -228,6 +230,62 @@ TEST_F(FrontEnd, OpenGlSessionRendersBothViewsInOrderAndDeliversTheScriptedUser)
   const nlohmann::json rec = record();
   expect_frames_in_order(rec, r, 2);
   EXPECT_EQ(rec["interaction"], "hand_tracking");
+}
+
+// Renders each view twice, into the swapchain image and into an offscreen RGBA8 target the
+// desktop and headless paths use, and keeps both read-backs of the last frame.
+class ComparingSink final : public FrameSink {
+ public:
+  explicit ComparingSink(render::Renderer& renderer) : renderer_(renderer) {}
+  void on_frame(const FrameInfo&, const TrackingFrame&) override {}
+  void render_view(std::uint32_t, const render::Camera& camera,
+                   const render::RenderTarget& target) override {
+    render::SceneView scene;
+    scene.camera = camera;
+    renderer_.render(scene, target);
+    swapchain_image = render::read_pixels(target);
+    render::OffscreenTarget offscreen(target.width, target.height);
+    renderer_.render(scene, offscreen.target());
+    desktop_image = render::read_pixels(offscreen.target());
+  }
+  render::Image swapchain_image, desktop_image;
+
+ private:
+  render::Renderer& renderer_;
+};
+
+// The headset shows what the desktop shows: the renderer's display-referred bytes go into the
+// sRGB swapchain unconverted (decision 47); with sRGB encoding on write they would not.
+TEST_F(FrontEnd, TheSrgbSwapchainHoldsTheDesktopsBytes) {
+  unsetenv("XR_ENABLE_API_LAYERS");
+  render::HeadlessContext context(16, 16);
+  render::Renderer renderer;
+  ComparingSink sink(renderer);
+  std::int64_t format = 0;
+  {
+    Instance instance(InstanceOptions{});
+    GlSession session(instance);
+    Swapchains swapchains(instance, session);
+    format = swapchains.format();
+    Input input(instance, session);
+    FrameLoop loop(instance, session, swapchains, input);
+    loop.run({}, sink);
+  }
+  EXPECT_EQ(format, GL_SRGB8_ALPHA8);
+  const render::Image& a = sink.swapchain_image;
+  const render::Image& b = sink.desktop_image;
+  ASSERT_GT(a.width, 0);
+  ASSERT_EQ(a.width, b.width);
+  ASSERT_EQ(a.height, b.height);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  int worst = 0;
+  int darkest = 255;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    worst = std::max(worst, std::abs(int{a.rgb[i]} - int{b.rgb[i]}));
+    darkest = std::min(darkest, int{b.rgb[i]});
+  }
+  EXPECT_LE(worst, 1);
+  EXPECT_LT(darkest, 200);  // mid-tones present: an sRGB encoding would have moved them
 }
 
 TEST(XrPoses, NonFiniteOrNonUnitPosesAreRefused) {
