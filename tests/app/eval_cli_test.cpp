@@ -1,0 +1,73 @@
+// `deixis eval` as a user runs it (the built command, a real process): test sets made by
+// `deixis capture generate`, a quick evaluation that exits 0 and writes tables.md, results.json and
+// fig5.png with the tables on standard output; data of the training subject refused with exit 2
+// naming the file; bad flags exit 2 naming the flag.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "app/deixis_child.h"
+#include "test_support.h"
+
+namespace deixis::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A small test set for subject 161 (5 % of the protocol's sequence counts).
+fs::path make_test_set(const fs::path& dir) {
+  Deixis capture({"capture", "generate", "--sets", "test", "--subjects", "161", "--count-scale",
+                  "0.05", "-o", (dir / "data").string()});
+  EXPECT_EQ(capture.wait(), 0) << capture.err();
+  return dir / "data";
+}
+
+TEST(EvalCli, AQuickEvaluationWritesTheTables) {
+#ifdef DEIXIS_SANITIZED
+  GTEST_SKIP() << "every network of every table: minutes under ASan; the release suite runs it";
+#endif
+  deixis::testing::ScratchDir dir;
+  const fs::path data = make_test_set(dir.path());
+  const fs::path out = dir.path() / "eval";
+  Deixis eval({"eval", "--quick", "--data", data.string(), "--subjects", "161", "--out",
+               out.string(), "--weights", "authors=" + weights_dir()});
+  ASSERT_EQ(eval.wait(), 0) << eval.err();
+  for (const char* file : {"tables.md", "results.json", "fig5.png"}) {
+    EXPECT_GT(fs::file_size(out / file), 100u) << file;
+  }
+  EXPECT_NE(eval.out().find("Table I"), std::string::npos) << eval.out();
+  const nlohmann::json results = nlohmann::json::parse(std::ifstream(out / "results.json"));
+  EXPECT_EQ(results["subjects"], nlohmann::json({"161"}));
+}
+
+TEST(EvalCli, TheTrainingSubjectsDataIsRefused) {
+  deixis::testing::ScratchDir dir;
+  Deixis capture({"capture", "generate", "--sets", "train", "--count-scale", "0.02", "-o",
+                  (dir.path() / "data").string()});
+  ASSERT_EQ(capture.wait(), 0) << capture.err();
+  // The training file under a test subject's name: its metadata still says what it is.
+  fs::rename(dir.path() / "data/train_right.safetensors", dir.path() / "data/test_161.safetensors");
+  Deixis eval({"eval", "--quick", "--data", (dir.path() / "data").string(), "--subjects", "161",
+               "--out", (dir.path() / "eval").string()});
+  EXPECT_EQ(eval.wait(), 2);
+  EXPECT_NE(eval.err().find("test_161.safetensors"), std::string::npos) << eval.err();
+  EXPECT_FALSE(fs::exists(dir.path() / "eval/results.json"));
+}
+
+TEST(EvalCli, BadFlagsExitTwoNamingThem) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"eval", "--weights", "nolabel"}, "--weights"},
+      {{"eval", "--data", "/nonexistent/dir"}, "--data"},
+      {{"eval", "--frobnicate"}, "--frobnicate"},
+  };
+  for (const auto& [args, named] : cases) {
+    Deixis d(args);
+    EXPECT_EQ(d.wait(), 2) << args[1];
+    EXPECT_NE(d.err().find(named), std::string::npos) << d.err();
+  }
+}
+
+}  // namespace
+}  // namespace deixis::app
