@@ -144,8 +144,10 @@ int run_xr(const XrRunOptions& options);
 // `deixis sim`: the desktop simulator (docs/sim.md). A window with the local room (site A) and
 // its virtual user, driven by mouse and keys or by the site's script, and the remote room (site
 // B) with the avatar translated from the user's tracking; B's objects are dragged with the mouse.
-// Both sites run in this process. Exit 0 when closed or done, 1 when the window or GL fails, 2
-// for bad flags or files.
+// Both sites run in this process; with `network` the simulator is site A of a real session
+// (host or join, as `deixis host`/`join`/`xr`): the user streams, the other site's person comes
+// in as an avatar in room A. Exit 0 when closed or done, 1 when the window, GL or the network
+// session fails (refused, nobody came), 2 for bad flags or files.
 struct SimOptions {
   std::filesystem::path site_a;
   std::filesystem::path site_b;
@@ -160,6 +162,12 @@ struct SimOptions {
   std::filesystem::path report;      // JSON: B's objects, the avatar's eye and fingertip, timings
   int width = 1280;
   int height = 720;
+  bool network = false;  // host or join another site
+  bool host = true;
+  std::string address = "0.0.0.0";  // host: where to listen; join: the host
+  std::uint16_t port = 7350;        // host: 0 picks a free one (printed as "port N")
+  std::string passphrase;
+  double wait = 30.0;  // s for the other site to come
 };
 int run_sim(const SimOptions& options);
 

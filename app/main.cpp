@@ -2,6 +2,7 @@
 // compile); it parses flags and hands plain option structs to the commands in commands.h.
 
 #include <CLI/CLI.hpp>
+#include <array>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -52,8 +53,8 @@ std::string parse_endpoint(const std::string& text, std::string& address, std::u
   return {};
 }
 
-// A HOST:PORT option (join's --connect, xr's --join) into `address` and `port`; `then` runs
-// after a valid endpoint was read.
+// A HOST:PORT option (join's --connect, xr's and sim's --join) into `address` and `port`; `then`
+// runs after a valid endpoint was read.
 CLI::Option* add_endpoint_option(CLI::App* cmd, const std::string& flag, std::string& address,
                                  std::uint16_t& port, std::function<void()> then,
                                  const std::string& help) {
@@ -111,6 +112,35 @@ void add_site_flags(CLI::App* cmd, deixis::app::SiteRunOptions& o) {
 }
 
 }  // namespace
+
+// A live user's site on the network (`deixis xr`, `deixis sim`): --host, or --join HOST:PORT,
+// with --port/--bind for a host, --passphrase and --wait. `Options` has network, host, address,
+// port, passphrase and wait. Returns --host and --join, for flags that exclude networking.
+template <class Options>
+std::array<CLI::Option*, 2> add_network_flags(CLI::App* cmd, Options& o,
+                                              const std::string& host_help) {
+  CLI::Option* host = cmd->add_flag(
+      "--host", [&o](std::int64_t) { o.network = o.host = true; }, host_help);
+  CLI::Option* join = add_endpoint_option(
+                          cmd, "--join", o.address, o.port,
+                          [&o] {
+                            o.network = true;
+                            o.host = false;
+                          },
+                          "Join the host at HOST:PORT")
+                          ->excludes(host);
+  cmd->add_option("--port", o.port, "With --host: UDP port (0: any free port)")
+      ->capture_default_str()
+      ->needs(host);
+  cmd->add_option("--bind", o.address, "With --host: address to listen on")
+      ->capture_default_str()
+      ->needs(host);
+  cmd->add_option("--passphrase", o.passphrase, "The session's passphrase (both sites)");
+  cmd->add_option("--wait", o.wait, "Seconds to wait for the other site")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 3600.0));
+  return {host, join};
+}
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -337,27 +367,8 @@ int main(int argc, char** argv) {
   add_weights_dir_flag(xr_cmd, xr.weights_dir);
   xr_cmd->add_flag("--headless", xr.headless,
                    "XR_MND_headless: a session without graphics (nothing is rendered)");
-  CLI::Option* xr_host = xr_cmd->add_flag(
-      "--host", [&xr](std::int64_t) { xr.network = xr.host = true; },
-      "Host a session others join (prints \"port N\" once the user is calibrated)");
-  add_endpoint_option(
-      xr_cmd, "--join", xr.address, xr.port,
-      [&xr] {
-        xr.network = true;
-        xr.host = false;
-      },
-      "Join the host at HOST:PORT")
-      ->excludes(xr_host);
-  xr_cmd->add_option("--port", xr.port, "With --host: UDP port (0: any free port)")
-      ->capture_default_str()
-      ->needs(xr_host);
-  xr_cmd->add_option("--bind", xr.address, "With --host: address to listen on")
-      ->capture_default_str()
-      ->needs(xr_host);
-  xr_cmd->add_option("--passphrase", xr.passphrase, "The session's passphrase (both sites)");
-  xr_cmd->add_option("--wait", xr.wait, "Seconds to wait for the other site")
-      ->capture_default_str()
-      ->check(CLI::Range(1.0, 3600.0));
+  add_network_flags(xr_cmd, xr,
+                    "Host a session others join (prints \"port N\" once the user is calibrated)");
   xr_cmd->add_option("--hand", xr.hand, "The headset user's pointing hand")
       ->capture_default_str()
       ->check(CLI::IsMember({"right", "left"}));
@@ -395,8 +406,10 @@ int main(int argc, char** argv) {
       ->add_option("--input", sim.input,
                    "Scripted mouse and key events (JSON, docs/sim.md); implies --fixed-step")
       ->check(CLI::ExistingFile);
-  sim_cmd->add_flag("--fixed-step", sim.fixed_step,
-                    "Every frame advances the simulator by one 30 Hz tick (reproducible runs)");
+  CLI::Option* fixed_step = sim_cmd->add_flag(
+      "--fixed-step", sim.fixed_step,
+      "Every frame advances the simulator by one 30 Hz tick (reproducible runs; not with a "
+      "network, whose sites follow the wall clock)");
   sim_cmd->add_option("--frames", sim.frames, "Quit after this many frames")
       ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{100'000'000}));
   sim_cmd->add_option("--seconds", sim.seconds, "Quit after this many seconds of simulator time")
@@ -421,6 +434,10 @@ int main(int argc, char** argv) {
   sim_cmd->add_option("--height", sim.height, "Window height")
       ->capture_default_str()
       ->check(CLI::Range(240, 4320));
+  for (CLI::Option* network : add_network_flags(
+           sim_cmd, sim, "Be site A of a session others join (prints \"port N\" at once)")) {
+    fixed_step->excludes(network);
+  }
 
   // `deixis eval` (docs/eval.md).
   deixis::app::EvalOptions eval;

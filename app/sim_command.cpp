@@ -3,6 +3,9 @@
 // pose; on the right the remote room (site B) with the avatar presence::RemoteAvatar translates
 // the user's tracking into, at 30 Hz; below, the ImGui panel. The mouse and keys drive the user
 // (or the site's script does) and move B's objects; the avatar adapts on the next tick.
+// With --host / --join the simulator is site A of a real session (app/sim_network.h): the user
+// streams to the other site, whose person stands in the left view where A's remote avatar does;
+// the right view keeps the local translation into B as a preview.
 
 #include <chrono>
 #include <cstdio>
@@ -21,6 +24,7 @@
 #include "app/sim_controls.h"
 #include "app/sim_history.h"
 #include "app/sim_imgui.h"
+#include "app/sim_network.h"
 #include "app/sim_panel.h"
 #include "app/sim_user.h"
 #include "app/sim_views.h"
@@ -76,8 +80,9 @@ struct SimAssets {
   SiteConfig b;
   avatar::Avatar user_avatar;
   std::optional<ik::AvatarSolver> user_solver;
-  std::optional<MoeNetworks> networks;
-  std::unique_ptr<SimUser> user;  // null with --script
+  std::optional<MoeNetworks> networks;                      // the user's hand: the preview in B
+  std::optional<std::array<MoeNetworks, 2>> peer_networks;  // networked: by the other's hand
+  std::unique_ptr<SimUser> user;                            // null with --script
   std::optional<capture::ScriptPerformance> script;
   std::optional<ScriptedInput> input;
   BodyCalibration calibration;
@@ -113,6 +118,11 @@ SimAssets load_assets(const SimOptions& o) {
     s.calibration = s.user->calibration();
   }
   s.networks.emplace(load_moe_networks(o.weights_dir, s.calibration.deictic_hand));
+  if (o.network) {
+    s.peer_networks.emplace(
+        std::array<MoeNetworks, 2>{load_moe_networks(o.weights_dir, Hand::kLeft),
+                                   load_moe_networks(o.weights_dir, Hand::kRight)});
+  }
   if (!o.input.empty()) {
     s.input.emplace(read_input_script(o.input));
   }
@@ -152,6 +162,13 @@ class Sim {
     // The remote avatar looks at the person in B's room: where B's user stands.
     b_partner_head_ =
         presence::avatar_origin(remote_->solver, a.b.user.T_world_floor()).translation;
+    if (o.network) {
+      // The other person wears A's avatar, as the user's copy does.
+      network_.emplace(SitePeerOptions{o.host ? net::Role::kHost : net::Role::kJoiner, o.address,
+                                       o.port, o.passphrase, o.wait},
+                       a.a, a.calibration, *a.peer_networks, *a.user_solver);
+      network_panel_ = network_->panel();
+    }
   }
 
   int run() {
@@ -177,7 +194,8 @@ class Sim {
   }
 
  private:
-  bool fixed_step() const { return o_.fixed_step || a_.input.has_value(); }
+  // The other site follows the wall clock, so a networked simulator does too.
+  bool fixed_step() const { return !o_.network && (o_.fixed_step || a_.input.has_value()); }
 
   std::unique_ptr<RemoteSide> make_remote(const fs::path& glb) {
     auto side = std::make_unique<RemoteSide>(glb, a_.calibration, *a_.networks, a_.b);
@@ -223,6 +241,7 @@ class Sim {
     s.avatar_note = avatar_note_;
     s.seconds = t;
     s.ticks = ticks_;
+    s.network = network_ ? &network_panel_ : nullptr;
     return s;
   }
 
@@ -282,37 +301,60 @@ class Sim {
     const double took = ms_since(t0);
     history_.push_tick(remote_->remote.frame(), took);
     visible_ticks_ += remote_->remote.visible() ? 1 : 0;
+    if (network_) {
+      // The other person's avatar looks at the user where they stand in A.
+      network_->tick(user_frame_,
+                     LocalTargets{&a_.a.target_map, user_frame_.T_world_head.translation});
+      network_panel_ = network_->panel();
+    }
     ++ticks_;
   }
 
   void draw(int window_height) {
-    std::array<render::AvatarDraw, 1> avatars{
+    // Room A: the user's copy, and the other site's person when networked.
+    std::array<render::AvatarDraw, 2> avatars{
         render::AvatarDraw{user_mesh_, user_copy_.T_world_model(), user_copy_.model_pose()}};
-    std::array<render::DebugLine, 1> lines;
+    std::array<render::DebugLine, 2> lines;
+    std::size_t avatar_count = 1;
     std::size_t line_count = 0;
     const TargetObject* user_target = a_.a.target_map.find(user_frame_.hand_target);
     if (user_target != nullptr && user_deictic_ > kRayShownAbove) {
       const EndEffectorPoses& e = user_copy_.targets().deictic;
       lines[line_count++] = eye_ray(e.T_world_head.translation, e.index_tip, user_target->position);
     }
-    local_.draw(avatars, std::span(lines.data(), line_count), window_height);
+    if (const presence::RemoteAvatar* other = network_ ? network_->visible_avatar() : nullptr) {
+      add_avatar(*other, user_mesh_, a_.a.target_map, avatars[avatar_count++], lines, line_count);
+    }
+    local_.draw(std::span(avatars.data(), avatar_count), std::span(lines.data(), line_count),
+                window_height);
 
-    const presence::RemoteAvatar& avatar = remote_->remote;
-    std::size_t avatar_count = 0;
+    // Room B: the user translated here.
+    avatar_count = 0;
     line_count = 0;
-    if (avatar.visible()) {
-      avatars[avatar_count++] = {remote_->mesh, avatar.T_world_model(), avatar.model_pose()};
-      const TargetObject* target = remote_map_.find(avatar.frame().hand_target);
-      if (target != nullptr && avatar.frame().progression[1] > kRayShownAbove) {
-        lines[line_count++] =
-            eye_ray(avatar.eye_midpoint(), avatar.index_fingertip(), target->position);
-      }
+    if (remote_->remote.visible()) {
+      add_avatar(remote_->remote, remote_->mesh, remote_map_, avatars[avatar_count++], lines,
+                 line_count);
     }
     remote_view_.draw(std::span(avatars.data(), avatar_count), std::span(lines.data(), line_count),
                       window_height);
   }
 
+  // A translated avatar, with its eye–fingertip ray toward its room's copy while it points.
+  static void add_avatar(const presence::RemoteAvatar& avatar, render::SkinnedMeshId mesh,
+                         const TargetMap& room, render::AvatarDraw& draw,
+                         std::array<render::DebugLine, 2>& lines, std::size_t& line_count) {
+    draw = {mesh, avatar.T_world_model(), avatar.model_pose()};
+    const TargetObject* target = room.find(avatar.frame().hand_target);
+    if (target != nullptr && avatar.frame().progression[1] > kRayShownAbove) {
+      lines[line_count++] =
+          eye_ray(avatar.eye_midpoint(), avatar.index_fingertip(), target->position);
+    }
+  }
+
   int finish() {
+    if (network_) {
+      network_->close();
+    }
     const auto quantiles = [](const Ring& r) {
       return nlohmann::json{{"p50", r.quantile(0.5f)}, {"p99", r.quantile(0.99f)}};
     };
@@ -324,8 +366,9 @@ class Sim {
         static_cast<double>(history_.tick_ms.quantile(0.5f)),
         static_cast<double>(history_.render_ms.quantile(0.5f)),
         static_cast<double>(history_.frame_ms.quantile(0.5f)));
+    const int code = print_network();
     if (o_.report.empty()) {
-      return 0;
+      return code;
     }
     nlohmann::json objects = nlohmann::json::array();
     for (const TargetObject& object : remote_map_.objects) {
@@ -357,6 +400,7 @@ class Sim {
           {"fingertip", {tip.x(), tip.y(), tip.z()}},
           {"glb", remote_->path.string()}}},
         {"status", controls_.status()},
+        {"network", network_json()},
         {"timings_ms",
          {{"translation_ik", quantiles(history_.tick_ms)},
           {"render", quantiles(history_.render_ms)},
@@ -367,7 +411,44 @@ class Sim {
       std::fprintf(stderr, "deixis sim: %s: cannot write the report\n", o_.report.c_str());
       return 1;
     }
-    return 0;
+    return code;
+  }
+
+  // The session's summary; 1 when it failed (the error on stderr), else 0.
+  int print_network() const {
+    if (!network_) {
+      return 0;
+    }
+    const SitePeerStats& n = network_->stats();
+    std::printf(
+        "network: site %s, tracking sent %llu, frames played %llu (%llu missed), their avatar "
+        "visible in %llu ticks\n",
+        n.peer_site.c_str(), static_cast<unsigned long long>(n.sent),
+        static_cast<unsigned long long>(n.played), static_cast<unsigned long long>(n.missed),
+        static_cast<unsigned long long>(n.visible_ticks));
+    if (network_->error().empty()) {
+      return 0;
+    }
+    std::fprintf(stderr, "deixis sim: %s\n", network_->error().c_str());
+    return 1;
+  }
+
+  nlohmann::json network_json() const {
+    if (!network_) {
+      return {{"role", "local"}};
+    }
+    const SitePeerStats& n = network_->stats();
+    const presence::RemoteAvatar* other = network_->visible_avatar();
+    return {{"role", network_panel_.role},
+            {"port", network_panel_.port},
+            {"peer_site", n.peer_site},
+            {"sent", n.sent},
+            {"played", n.played},
+            {"missed", n.missed},
+            {"visible_ticks", n.visible_ticks},
+            {"visible", other != nullptr},
+            {"state", network_panel_.state},
+            {"error", network_->error()}};
   }
 
   const SimOptions& o_;
@@ -386,6 +467,8 @@ class Sim {
   PanelEdits edits_;
   std::string avatar_note_;
   SimHistory history_;
+  std::optional<SimNetwork> network_;  // --host / --join
+  PanelNetwork network_panel_;         // its state, refreshed every tick
   TrackingFrame user_frame_;
   float user_deictic_ = 0.0f;
   std::uint64_t frames_ = 0;

@@ -108,22 +108,39 @@ void timings(const SimHistory& h, PanelWidgets* widgets) {
   plot("frame", h.frame_ms, 0.0f, 50.0f, " ms", widgets);
 }
 
-void network_and_avatar(const PanelStatus& s, PanelEdits& edits, PanelActions& a,
-                        PanelWidgets* widgets) {
-  ImGui::Text("Network: %.*s", static_cast<int>(s.network.size()), s.network.data());
+// Local, or the session with the other site: who this site is, where, whether a passphrase
+// guards it, who came and what flows; a failure in red (the run then exits 1).
+void network(const PanelStatus& s, PanelWidgets* widgets) {
+  if (s.network == nullptr) {
+    ImGui::TextWrapped("Network: local (both sites in this process; --host or --join)");
+    note(widgets, "network");
+    return;
+  }
+  const PanelNetwork& n = *s.network;
+  ImGui::TextWrapped("Network: %.*s %.*s:%u, passphrase %s", static_cast<int>(n.role.size()),
+                     n.role.data(), static_cast<int>(n.address.size()), n.address.data(), n.port,
+                     n.passphrase ? "set" : "none");
   note(widgets, "network");
-  // Host and join through the site session are not wired into the simulator yet: shown so the
-  // person sees where they will be, disabled so nothing pretends to connect.
-  ImGui::BeginDisabled(true);
-  ImGui::SetNextItemWidth(160.0f);
-  ImGui::InputText("passphrase", edits.passphrase.data(), edits.passphrase.size(),
-                   ImGuiInputTextFlags_Password);
-  note(widgets, "passphrase");
-  ImGui::SameLine();
-  button("Host", widgets);
-  ImGui::SameLine();
-  button("Join", widgets);
-  ImGui::EndDisabled();
+  ImGui::TextWrapped("site %.*s: tracking sent %llu, frames played %llu",
+                     static_cast<int>(n.peer_site.size()), n.peer_site.data(),
+                     static_cast<unsigned long long>(n.sent),
+                     static_cast<unsigned long long>(n.played));
+  note(widgets, "network counts");
+  if (n.failed) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));
+  }
+  ImGui::TextWrapped("%.*s", static_cast<int>(n.state.size()), n.state.data());
+  note(widgets, "network state");
+  if (n.failed) {
+    ImGui::PopStyleColor();
+  }
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+  ImGui::TextWrapped("Left: their person in room A. Right: room B translated here (a preview).");
+  ImGui::PopStyleColor();
+}
+
+void avatar_choice(const PanelStatus& s, PanelEdits& edits, PanelActions& a,
+                   PanelWidgets* widgets) {
   ImGui::Text("Avatar in B: %.*s", static_cast<int>(s.avatar.size()), s.avatar.data());
   note(widgets, "avatar");
   ImGui::SetNextItemWidth(-110.0f);
@@ -171,7 +188,8 @@ PanelActions draw_panel(const ViewRect& rect, const PanelStatus& s, PanelEdits& 
     ImGui::TableNextColumn();
     timings(*s.history, widgets);
     ImGui::Separator();
-    network_and_avatar(s, edits, a, widgets);
+    network(s, widgets);
+    avatar_choice(s, edits, a, widgets);
     ImGui::EndTable();
   }
   ImGui::End();

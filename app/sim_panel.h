@@ -1,7 +1,8 @@
 #pragma once
 // The simulator's Dear ImGui panel (docs/sim.md): live plots of the remote avatar's three
 // progressions (MPNet) and blend weights, per-tick timings, the virtual user's commands and
-// status, the network state and the avatar choice. Drawing it reports what the person clicked
+// status, the network state (local, or host / join with the session's state) and the avatar
+// choice. Drawing it reports what the person clicked
 // (PanelActions) and where each widget was (PanelWidgets: the smoke test checks they are there,
 // scripted input can aim at them). Needs an ImGui frame begun; allocates nothing of its own.
 
@@ -14,6 +15,19 @@
 
 namespace deixis::app {
 
+// The network section when the simulator hosts or joins another site (app/sim_network.h).
+struct PanelNetwork {
+  std::string_view role;     // "host" or "join"
+  std::string_view address;  // host: where it listens; joiner: the host
+  unsigned port = 0;         // host: the port bound (0 picks one, shown here)
+  bool passphrase = false;   // set or not (never shown)
+  std::string_view peer_site = "?";
+  std::uint64_t sent = 0;    // tracking frames sent
+  std::uint64_t played = 0;  // the other person's frames played into their avatar
+  std::string_view state;    // "waiting for the other site", "streaming", or the error
+  bool failed = false;
+};
+
 // What the panel shows, read-only.
 struct PanelStatus {
   const SimHistory* history = nullptr;
@@ -21,17 +35,16 @@ struct PanelStatus {
   bool avatar_visible = false;
   std::span<const TargetObject> local_objects;  // the user's room, for point/touch buttons
   std::string_view status;                      // the last command's outcome
-  std::string_view network = "local (both sites in this process)";
-  std::string_view avatar;       // the remote avatar's .glb
-  std::string_view avatar_note;  // the last avatar load's error, if any
-  double seconds = 0.0;          // simulator time
+  const PanelNetwork* network = nullptr;        // null: both sites in this process
+  std::string_view avatar;                      // the remote avatar's .glb
+  std::string_view avatar_note;                 // the last avatar load's error, if any
+  double seconds = 0.0;                         // simulator time
   std::uint64_t ticks = 0;
 };
 
 // What the person edits in the panel; kept by the caller between frames.
 struct PanelEdits {
   std::array<char, 512> avatar_path{};
-  std::array<char, 128> passphrase{};
   TargetId selected = 1;  // the object the Point and Touch buttons act on
 };
 

@@ -40,6 +40,8 @@ class SitePeer {
            const std::array<MoeNetworks, 2>& networks, const ik::AvatarSolver& solver, double now);
 
   std::uint16_t port() const { return net_.port(); }
+  // The other site is there and the two stream (false before, and after it left).
+  bool streaming() const { return net_.streaming(); }
 
   // One tick: services the link, sends the user's frame once streaming, plays the remote
   // person's frames that are due into their avatar. Throws deixis::Error when refused or when

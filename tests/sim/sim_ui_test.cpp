@@ -123,10 +123,8 @@ TEST_F(SimPanelTest, EveryWidgetIsDrawnInsideThePanel) {
                             "Touch",         "Put B's objects back",
                             "status",        "translation timing",
                             "render timing", "frame",
-                            "network",       "passphrase",
-                            "Host",          "Join",
-                            "avatar",        "avatar path",
-                            "Load avatar"}) {
+                            "network",       "avatar",
+                            "avatar path",   "Load avatar"}) {
     SCOPED_TRACE(label);
     const PanelWidgets::Item* item = widgets_.find(label);
     ASSERT_NE(item, nullptr);
@@ -142,6 +140,30 @@ TEST_F(SimPanelTest, EveryWidgetIsDrawnInsideThePanel) {
   EXPECT_GT(count(*widgets_.find("deictic"), bright), 20);
   // An empty ring plots nothing but its frame and value.
   EXPECT_LT(count(*widgets_.find("gaze"), bright), count(*widgets_.find("deictic"), bright));
+}
+
+TEST_F(SimPanelTest, TheNetworkSectionShowsTheSession) {
+  // Local: one line. Networked: role, address, counts and the state, inside the panel; a
+  // failure's text is drawn in red.
+  frame();
+  frame();
+  EXPECT_EQ(widgets_.find("network state"), nullptr);
+  const PanelNetwork joined{
+      "join", "127.0.0.1", 7350, true, "B", 120, 118, "nobody came within 30 s", true};
+  status_.network = &joined;
+  frame();
+  frame();
+  for (const char* label : {"network", "network counts", "network state", "avatar path"}) {
+    SCOPED_TRACE(label);
+    const PanelWidgets::Item* item = widgets_.find(label);
+    ASSERT_NE(item, nullptr);
+    EXPECT_GT(item->x1 - item->x0, 3.0f);
+    EXPECT_LE(item->y1, static_cast<float>(kHeight));
+    EXPECT_EQ(count(*item, magenta), 0);
+  }
+  const auto red = [](std::array<std::uint8_t, 3> p) { return p[0] > 200 && p[1] < 140; };
+  EXPECT_GT(count(*widgets_.find("network state"), red), 20);
+  EXPECT_EQ(count(*widgets_.find("network counts"), red), 0);
 }
 
 TEST_F(SimPanelTest, ButtonsComeBackAsActions) {

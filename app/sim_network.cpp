@@ -1,0 +1,76 @@
+#include "app/sim_network.h"
+
+#include <cstdio>
+
+#include "gesture/error.h"
+
+namespace deixis::app {
+
+SimNetwork::SimNetwork(const SitePeerOptions& options, const SiteConfig& site,
+                       const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
+                       const ik::AvatarSolver& solver)
+    : options_(options) {
+  try {
+    peer_.emplace(options, site, user, networks, solver, clock_.now());
+    if (options.role == net::Role::kHost) {
+      std::printf("port %u\n", static_cast<unsigned>(peer_->port()));
+      std::fflush(stdout);
+    }
+  } catch (const Error& e) {
+    fail(e.what());
+  }
+}
+
+void SimNetwork::fail(const char* what) {
+  // The window stays: the panel shows why, and the run exits 1 at its end.
+  error_ = what;
+  if (peer_) {
+    stats_ = peer_->stats();
+    peer_.reset();
+  }
+}
+
+void SimNetwork::tick(const TrackingFrame& user, const LocalTargets& room) {
+  if (!peer_) {
+    return;
+  }
+  try {
+    peer_->tick(user, clock_.now(), room);
+  } catch (const Error& e) {
+    fail(e.what());
+  }
+}
+
+const presence::RemoteAvatar* SimNetwork::visible_avatar() const {
+  return peer_ ? peer_->visible_avatar() : nullptr;
+}
+
+const SitePeerStats& SimNetwork::stats() const {
+  return peer_ ? peer_->stats() : stats_;
+}
+
+PanelNetwork SimNetwork::panel() const {
+  PanelNetwork p;
+  const bool host = options_.role == net::Role::kHost;
+  p.role = host ? "host" : "join";
+  p.address = options_.address;
+  p.port = host && peer_ ? peer_->port() : options_.port;
+  p.passphrase = !options_.passphrase.empty();
+  const SitePeerStats& s = stats();
+  p.peer_site = s.peer_site;
+  p.sent = s.sent;
+  p.played = s.played;
+  p.failed = !error_.empty();
+  p.state = p.failed                      ? std::string_view(error_)
+            : peer_ && peer_->streaming() ? std::string_view("streaming")
+                                          : std::string_view("waiting for the other site");
+  return p;
+}
+
+void SimNetwork::close() {
+  if (peer_) {
+    peer_->close(clock_.now());
+  }
+}
+
+}  // namespace deixis::app

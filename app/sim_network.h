@@ -1,0 +1,51 @@
+#pragma once
+// The simulator on the network (`deixis sim --host` / `--join`, docs/sim.md): the virtual user is
+// this site's user, streamed through a SitePeer every tick with the targets they selected; the
+// other site's person comes back as a translated avatar in this room (site A). A failure —
+// refused, nobody within --wait, a port that cannot be bound — must not take the window down:
+// it is kept as the state the panel shows and the run ends with exit 1 when the person closes it.
+
+#include <array>
+#include <optional>
+#include <string>
+
+#include "app/moe_weights.h"
+#include "app/sim_panel.h"
+#include "app/site_config.h"
+#include "app/site_peer.h"
+#include "app/site_session.h"
+
+namespace deixis::app {
+
+class SimNetwork {
+ public:
+  // Starts hosting (prints "port N" on stdout) or joining at once. `site`, `networks` and
+  // `solver` (the avatar the other person wears here) must outlive this.
+  SimNetwork(const SitePeerOptions& options, const SiteConfig& site, const BodyCalibration& user,
+             const std::array<MoeNetworks, 2>& networks, const ik::AvatarSolver& solver);
+
+  // One 30 Hz tick: `user` (with the targets they selected) goes out, the other person's frames
+  // that are due play into their avatar, which looks at this site's user in `room`. Stops for
+  // good at the first failure. Allocates nothing once streaming.
+  void tick(const TrackingFrame& user, const LocalTargets& room);
+
+  // The other person's avatar to draw in this room; null while hidden or after a failure.
+  const presence::RemoteAvatar* visible_avatar() const;
+  const SitePeerStats& stats() const;
+  const std::string& error() const { return error_; }
+  // The panel's network section.
+  PanelNetwork panel() const;
+  // Says bye to the other site (at the end of the run).
+  void close();
+
+ private:
+  void fail(const char* what);
+
+  SitePeerOptions options_;
+  SiteClock clock_;  // the network's clock (ENet's and the jitter buffer's): the wall clock
+  std::optional<SitePeer> peer_;
+  SitePeerStats stats_;  // the peer's, kept after a failure
+  std::string error_;
+};
+
+}  // namespace deixis::app

@@ -1,0 +1,182 @@
+// `deixis sim` on the network, as real processes: under a private Xvfb the simulator joins a
+// `deixis host` at site B over ENet on 127.0.0.1 with its scripted user. Site B receives A's
+// person (frames played, their avatar shown, the pointing they selected); the simulator shows B's
+// person in room A's view where A's remote avatar stands (the default avatar's shirt there in
+// the screenshot), and its report counts what it sent and played. A wrong passphrase ends with
+// exit 1 naming the refusal — and no avatar in room A, which is also the pixel check's control.
+// Bad network flags exit 2 naming them.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "app/deixis_child.h"
+#include "app/sim_views.h"
+#include "app/site_config.h"
+#include "render/image.h"
+#include "render/render_fixtures.h"
+#include "render/xvfb_server.h"
+#include "test_support.h"
+
+namespace deixis::app {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+using render::testing::Rgb;
+
+constexpr int kWidth = 640;  // the simulator's window
+constexpr int kHeight = 480;
+
+// One private X server for the test program; the simulators it starts inherit its DISPLAY.
+const render::testing::XvfbServer& display() {
+  static render::testing::XvfbServer server;
+  return server;
+}
+
+json read_json(const fs::path& path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in.good()) << path;
+  return in ? json::parse(in) : json();
+}
+
+class SimNetworkTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const render::testing::XvfbServer& xvfb = display();
+    if (xvfb.missing()) {
+      GTEST_SKIP() << xvfb.error();
+    }
+    ASSERT_TRUE(xvfb.ready()) << xvfb.error();
+  }
+
+  std::vector<std::string> host(const std::string& seconds) const {
+    return {"host",        "--site",     site("b.json").string(),
+            "--port",      "0",          "--bind",
+            "127.0.0.1",   "--no-video", "--weights-dir",
+            weights_dir(), "--out",      (dir_.path() / "B").string(),
+            "--seconds",   seconds};
+  }
+  // The simulator at site A (the demo's), its scripted user, joining `port`.
+  std::vector<std::string> sim(int port, const std::string& seconds) const {
+    return {"sim",
+            "--join",
+            "127.0.0.1:" + std::to_string(port),
+            "--script",
+            "--seconds",
+            seconds,
+            "--weights-dir",
+            weights_dir(),
+            "--width",
+            std::to_string(kWidth),
+            "--height",
+            std::to_string(kHeight),
+            "--wait",
+            "10",
+            "--report",
+            report().string(),
+            "--screenshot",
+            shot().string()};
+  }
+  fs::path report() const { return dir_.path() / "report.json"; }
+  fs::path shot() const { return dir_.path() / "shot.png"; }
+
+  // Pixels of the default avatar's dark blue shirt around the chest of whoever stands where
+  // site A's remote avatar does, in room A's view (the floor and sky there are a pale grey-blue,
+  // blue less than 1.4 times red; the user's own copy stands well to the left).
+  int shirt_at_a_remote_avatar() const {
+    const SiteConfig a = read_site_config(site("a.json"));
+    const SimLayout layout = sim_layout(kWidth, kHeight);
+    const render::Camera camera = site_camera(a.camera, layout.local.width, layout.local.height);
+    const Vec3 chest = a.remote_avatar.floor + Vec3(0, 1.25f, 0);
+    const auto at =
+        render::project_to_pixel(camera, layout.local.width, layout.local.height, chest);
+    EXPECT_TRUE(at.has_value());
+    if (!at) {
+      return -1;
+    }
+    const int x = layout.local.x + static_cast<int>(at->x());
+    const int y = layout.local.y + static_cast<int>(at->y());
+    EXPECT_TRUE(layout.local.contains(render::Vec2(x, y)));
+    const render::Image image = render::read_png(shot());
+    EXPECT_EQ(image.width, kWidth);
+    const auto shirt = [](const Rgb& p) { return p[2] > 2 * p[0] && p[2] > p[1] + 20; };
+    return render::testing::count_pixels(image, {x - 4, y - 4, x + 5, y + 5}, shirt);
+  }
+
+  deixis::testing::ScratchDir dir_;
+};
+
+TEST_F(SimNetworkTest, TheSimulatorJoinsAHostAndEachSiteSeesTheOthersPerson) {
+  // The host outlasts the simulator, so B's person is still there in its last frame.
+  Deixis b(host("14"));
+  const int port = b.port();
+  ASSERT_GT(port, 0) << b.err();
+  Deixis a(sim(port, "8"));
+  ASSERT_EQ(a.wait(), 0) << a.out() << a.err();
+  ASSERT_EQ(b.wait(), 0) << b.err();
+  EXPECT_NE(a.out().find("network: site B"), std::string::npos) << a.out();
+
+  // Site B received A's person: the sim's scripted user, who looks at B's person and points
+  // at object 1 (targets the simulator labelled, as the capture does).
+  const json s = read_json(dir_.path() / "B/session.json");
+  std::printf("site B: %s\n", s["network"].dump().c_str());
+  EXPECT_EQ(s["peer_site"], "A");
+  EXPECT_GT(s["network"]["frames_played"].get<int>(), 100);
+  EXPECT_EQ(s["network"]["rejected"].get<int>(), 0);
+  EXPECT_GT(s["avatar_visible_ticks"].get<int>(), 100);
+  EXPECT_GE(s["pointing"]["count"].get<int>(), 1) << s.dump(2);
+
+  // The simulator sent its user and played B's person into room A for most of its 8 s.
+  const json r = read_json(report());
+  const json& n = r["network"];
+  std::printf("deixis sim: %s\n", n.dump().c_str());
+  EXPECT_EQ(n["role"], "join");
+  EXPECT_EQ(n["peer_site"], "B");
+  EXPECT_EQ(n["state"], "streaming");
+  EXPECT_EQ(n["error"], "");
+  EXPECT_GT(n["sent"].get<int>(), 150);
+  EXPECT_GT(n["played"].get<int>(), 150);
+  EXPECT_GT(n["visible_ticks"].get<int>(), 150);
+  EXPECT_TRUE(n["visible"].get<bool>());
+  // B's person in room A's view, where A's remote avatar stands.
+  EXPECT_GE(shirt_at_a_remote_avatar(), 40) << "no avatar where A's remote avatar stands";
+}
+
+TEST_F(SimNetworkTest, AWrongPassphraseIsShownAndEndsWithExitOne) {
+  Deixis b(host("5") + std::vector<std::string>{"--passphrase", "blue whale", "--wait", "5"});
+  const int port = b.port();
+  ASSERT_GT(port, 0) << b.err();
+  Deixis a(sim(port, "4") + std::vector<std::string>{"--passphrase", "green whale"});
+  EXPECT_EQ(a.wait(), 1) << a.out() << a.err();
+  EXPECT_NE(a.err().find("refused this site: wrong passphrase"), std::string::npos) << a.err();
+  b.wait();
+  // The window ran to its end and wrote what it had: the refusal, nobody in room A.
+  const json n = read_json(report())["network"];
+  EXPECT_NE(n["error"].get<std::string>().find("wrong passphrase"), std::string::npos) << n;
+  EXPECT_EQ(n["state"], n["error"]);
+  EXPECT_EQ(n["visible_ticks"].get<int>(), 0);
+  EXPECT_EQ(shirt_at_a_remote_avatar(), 0);
+}
+
+TEST_F(SimNetworkTest, BadNetworkFlagsExitTwoNamingThem) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"sim", "--join", "localhost"}, "--join"},
+      {{"sim", "--join", "127.0.0.1:99999"}, "--join"},
+      {{"sim", "--port", "7000"}, "--port"},  // only with --host
+      {{"sim", "--bind", "127.0.0.1"}, "--bind"},
+      {{"sim", "--host", "--join", "127.0.0.1:7000"}, "--join"},
+      {{"sim", "--host", "--fixed-step"}, "--fixed-step"},  // the network's clock is the wall's
+      {{"sim", "--host", "--wait", "0"}, "--wait"},
+  };
+  for (const auto& [args, named] : cases) {
+    // --seconds: a flag wrongly accepted ends the run rather than leave a window open.
+    Deixis d(args + std::vector<std::string>{"--seconds", "3"});
+    EXPECT_EQ(d.wait(), 2) << args[1];
+    EXPECT_NE(d.err().find(named), std::string::npos) << d.err();
+  }
+}
+
+}  // namespace
+}  // namespace deixis::app
