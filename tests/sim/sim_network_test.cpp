@@ -2,9 +2,10 @@
 // `deixis host` at site B over ENet on 127.0.0.1 with its scripted user. Site B receives A's
 // person (frames played, their avatar shown, the pointing they selected); the simulator shows B's
 // person in room A's view where A's remote avatar stands (the default avatar's shirt there in
-// the screenshot), and its report counts what it sent and played. A wrong passphrase ends with
-// exit 1 naming the refusal — and no avatar in room A, which is also the pixel check's control.
-// Bad network flags exit 2 naming them.
+// the screenshot), and its report counts what it sent and played. The other way round, it hosts
+// a `deixis join`, with a passphrase. A wrong passphrase ends with exit 1 naming the refusal —
+// and no avatar in room A, which is also the pixel check's control. Bad network flags exit 2
+// naming them.
 
 #include <gtest/gtest.h>
 
@@ -142,6 +143,34 @@ TEST_F(SimNetworkTest, TheSimulatorJoinsAHostAndEachSiteSeesTheOthersPerson) {
   EXPECT_TRUE(n["visible"].get<bool>());
   // B's person in room A's view, where A's remote avatar stands.
   EXPECT_GE(shirt_at_a_remote_avatar(), 40) << "no avatar where A's remote avatar stands";
+}
+
+TEST_F(SimNetworkTest, TheSimulatorHostsAndAJoinerStreamsWithIt) {
+  // The simulator hosts on a port of its own choosing, which it prints; `deixis join` at site B
+  // connects and streams 5 s, with a passphrase both give.
+  Deixis a({"sim", "--host", "--port", "0", "--bind", "127.0.0.1", "--passphrase", "blue whale",
+            "--script", "--seconds", "10", "--weights-dir", weights_dir(), "--width",
+            std::to_string(kWidth), "--height", std::to_string(kHeight), "--report",
+            report().string()});
+  const int port = a.port();
+  ASSERT_GT(port, 0) << a.out() << a.err();
+  Deixis b({"join", "--site", site("b.json").string(), "--connect",
+            "127.0.0.1:" + std::to_string(port), "--passphrase", "blue whale", "--no-video",
+            "--weights-dir", weights_dir(), "--out", (dir_.path() / "B").string(), "--seconds",
+            "5"});
+  ASSERT_EQ(b.wait(), 0) << b.err();
+  ASSERT_EQ(a.wait(), 0) << a.out() << a.err();
+  const json s = read_json(dir_.path() / "B/session.json");
+  EXPECT_EQ(s["peer_site"], "A");
+  EXPECT_TRUE(s["network"]["sealed"].get<bool>());
+  EXPECT_GT(s["network"]["frames_played"].get<int>(), 100);
+  const json n = read_json(report())["network"];
+  EXPECT_EQ(n["role"], "host");
+  EXPECT_EQ(n["port"].get<int>(), port);
+  EXPECT_EQ(n["peer_site"], "B");
+  EXPECT_EQ(n["error"], "");
+  EXPECT_GT(n["played"].get<int>(), 100);
+  EXPECT_GT(n["visible_ticks"].get<int>(), 100);
 }
 
 TEST_F(SimNetworkTest, AWrongPassphraseIsShownAndEndsWithExitOne) {
