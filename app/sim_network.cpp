@@ -9,11 +9,12 @@ namespace deixis::app {
 SimNetwork::SimNetwork(const SitePeerOptions& options, const SiteConfig& site,
                        const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
                        const ik::AvatarSolver& solver)
-    : options_(options) {
+    : options_(options), port_(options.port) {
   try {
     peer_.emplace(options, site, user, networks, solver, clock_.now());
     if (options.role == net::Role::kHost) {
-      std::printf("port %u\n", static_cast<unsigned>(peer_->port()));
+      port_ = peer_->port();  // the bound one (--port 0 picks it), shown after a failure too
+      std::printf("port %u\n", static_cast<unsigned>(port_));
       std::fflush(stdout);
     }
   } catch (const Error& e) {
@@ -54,7 +55,7 @@ PanelNetwork SimNetwork::panel() const {
   const bool host = options_.role == net::Role::kHost;
   p.role = host ? "host" : "join";
   p.address = options_.address;
-  p.port = host && peer_ ? peer_->port() : options_.port;
+  p.port = port_;
   p.passphrase = !options_.passphrase.empty();
   const SitePeerStats& s = stats();
   p.peer_site = s.peer_site;

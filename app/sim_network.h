@@ -42,7 +42,8 @@ class SimNetwork {
   void fail(const char* what);
 
   SitePeerOptions options_;
-  SiteClock clock_;  // the network's clock (ENet's and the jitter buffer's): the wall clock
+  std::uint16_t port_ = 0;  // the host's bound port, or the host's a joiner joins
+  SiteClock clock_;         // the network's clock (ENet's and the jitter buffer's): the wall clock
   std::optional<SitePeer> peer_;
   SitePeerStats stats_;  // the peer's, kept after a failure
   std::string error_;

@@ -4,8 +4,8 @@
 // person in room A's view where A's remote avatar stands (the default avatar's shirt there in
 // the screenshot), and its report counts what it sent and played. The other way round, it hosts
 // a `deixis join`, with a passphrase. A wrong passphrase ends with exit 1 naming the refusal —
-// and no avatar in room A, which is also the pixel check's control. Bad network flags exit 2
-// naming them.
+// and no avatar in room A, which is also the pixel check's control; so does a host nobody joins
+// within --wait. Bad network flags exit 2 naming them.
 
 #include <gtest/gtest.h>
 
@@ -187,6 +187,20 @@ TEST_F(SimNetworkTest, AWrongPassphraseIsShownAndEndsWithExitOne) {
   EXPECT_EQ(n["state"], n["error"]);
   EXPECT_EQ(n["visible_ticks"].get<int>(), 0);
   EXPECT_EQ(shirt_at_a_remote_avatar(), 0);
+}
+
+TEST_F(SimNetworkTest, AHostNobodyJoinsSaysSoAndEndsWithExitOne) {
+  Deixis a({"sim", "--host", "--port", "0", "--bind", "127.0.0.1", "--wait", "1", "--script",
+            "--seconds", "3", "--weights-dir", weights_dir(), "--width", std::to_string(kWidth),
+            "--height", std::to_string(kHeight), "--report", report().string()});
+  const int port = a.port();
+  ASSERT_GT(port, 0) << a.out() << a.err();
+  EXPECT_EQ(a.wait(), 1) << a.out() << a.err();
+  EXPECT_NE(a.err().find("no site joined within 1"), std::string::npos) << a.err();
+  const json n = read_json(report())["network"];
+  EXPECT_EQ(n["port"].get<int>(), port);  // the bound port stays shown after the failure
+  EXPECT_EQ(n["state"], n["error"]);
+  EXPECT_EQ(n["sent"].get<int>(), 0);
 }
 
 TEST_F(SimNetworkTest, BadNetworkFlagsExitTwoNamingThem) {
