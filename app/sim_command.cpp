@@ -304,7 +304,7 @@ class Sim {
     if (network_) {
       // The other person's avatar looks at the user where they stand in A.
       network_->tick(user_frame_,
-                     LocalTargets{&a_.a.target_map, user_frame_.T_world_head.translation});
+                     LocalTargets{&a_.a.target_map, user_frame_.T_world_head.translation}, tt);
       network_panel_ = network_->panel();
     }
     ++ticks_;

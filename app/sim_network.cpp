@@ -31,12 +31,15 @@ void SimNetwork::fail(const char* what) {
   }
 }
 
-void SimNetwork::tick(const TrackingFrame& user, const LocalTargets& room) {
+void SimNetwork::tick(const TrackingFrame& user, const LocalTargets& room, double sim_seconds) {
   if (!peer_) {
     return;
   }
+  if (wall_at_sim_zero_ < 0.0) {
+    wall_at_sim_zero_ = clock_.now() - sim_seconds;
+  }
   try {
-    peer_->tick(user, clock_.now(), room);
+    peer_->tick(user, wall_at_sim_zero_ + sim_seconds, room);
   } catch (const Error& e) {
     fail(e.what());
   }

@@ -27,7 +27,9 @@ class SimNetwork {
   // One 30 Hz tick: `user` (with the targets they selected) goes out, the other person's frames
   // that are due play into their avatar, which looks at this site's user in `room`. Stops for
   // good at the first failure. Allocates nothing once streaming.
-  void tick(const TrackingFrame& user, const LocalTargets& room);
+  // `sim_seconds`: the tick's simulator time, when the user was sampled. Frames are stamped with
+  // it on the wall clock, so ticks a slow frame catches up on are not sent bunched together.
+  void tick(const TrackingFrame& user, const LocalTargets& room, double sim_seconds);
 
   // The other person's avatar to draw in this room; null while hidden or after a failure.
   const presence::RemoteAvatar* visible_avatar() const;
@@ -43,7 +45,9 @@ class SimNetwork {
 
   SitePeerOptions options_;
   std::uint16_t port_ = 0;  // the host's bound port, or the host's a joiner joins
-  SiteClock clock_;         // the network's clock (ENet's and the jitter buffer's): the wall clock
+  SiteClock clock_;
+  double wall_at_sim_zero_ = -1.0;  // set at the first tick         // the network's clock (ENet's
+                                    // and the jitter buffer's): the wall clock
   std::optional<SitePeer> peer_;
   SitePeerStats stats_;  // the peer's, kept after a failure
   std::string error_;

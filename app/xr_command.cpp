@@ -173,7 +173,7 @@ class XrSink final : public xr::FrameSink {
       if ((user.valid & tracked::kHead) == 0) {
         return;  // calibration waits for the head
       }
-      meet(user);
+      meet(user, frame.seconds);
     }
     while (static_cast<double>(ticks_) * kTick <= frame.seconds) {
       // The user designates what they look and point at in this room; the other person is
@@ -183,14 +183,18 @@ class XrSink final : public xr::FrameSink {
       selector_.select(out, site_.target_map,
                        avatar != nullptr ? avatar->eye_midpoint() : remote_head_);
       const LocalTargets room{&site_.target_map, user_head_};
-      peer_->tick(out, clock_.now(), room);
+      // Stamped with its sampling time (display time on the wall clock), not with when this
+      // frame's loop got to it: a late frame catching up on several ticks must not send them
+      // bunched together, or the other site's jitter buffer plays them as a jerk.
+      peer_->tick(out, wall_at_first_frame_ + static_cast<double>(ticks_) * kTick, room);
       visible_ticks_ += peer_->visible_avatar() != nullptr ? 1 : 0;
       ++ticks_;
     }
   }
 
   // The user stands upright when the session starts: their calibration goes in the hello.
-  void meet(const TrackingFrame& upright) {
+  void meet(const TrackingFrame& upright, double display_seconds) {
+    wall_at_first_frame_ = clock_.now() - display_seconds;
     const BodyCalibration calibration = calibrate_upright(upright, network_->body);
     selector_.config = target_selection_for(calibration);
     std::printf("calibrated: stature %.2f m, arm %.2f m, %s hand\n",
@@ -221,6 +225,7 @@ class XrSink final : public xr::FrameSink {
   std::optional<SitePeer> peer_;
   TargetSelector selector_;
   SiteClock clock_;
+  double wall_at_first_frame_ = 0.0;  // the wall clock at display time 0
   std::array<render::AvatarDraw, 1> avatars_;
   Vec3 user_head_ = Vec3(0, 1.6f, 0);
   std::uint64_t ticks_ = 0;

@@ -86,6 +86,25 @@ void reset(Runtime& rt) {
   rt.record = {};
 }
 
+// The checks every system-level call starts with: a live instance, our one system.
+XrResult check_system(XrInstance instance, XrSystemId system) {
+  if (!valid_instance(instance)) {
+    return XR_ERROR_HANDLE_INVALID;
+  }
+  return system == kSystem ? XR_SUCCESS : XR_ERROR_SYSTEM_INVALID;
+}
+
+// The same, and the one view configuration the runtime has (primary stereo).
+XrResult check_view_configuration(XrInstance instance, XrSystemId system,
+                                  XrViewConfigurationType type) {
+  if (const XrResult r = check_system(instance, system); r != XR_SUCCESS) {
+    return r;
+  }
+  return type == XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO
+             ? XR_SUCCESS
+             : XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+}
+
 }  // namespace
 
 XrResult XRAPI_CALL EnumerateInstanceExtensionProperties(const char* layer, uint32_t capacity,
@@ -249,11 +268,8 @@ XrResult XRAPI_CALL GetSystemProperties(XrInstance instance, XrSystemId system,
                                         XrSystemProperties* props) {
   Runtime& rt = state();
   std::lock_guard lock(rt.mutex);
-  if (!valid_instance(instance)) {
-    return XR_ERROR_HANDLE_INVALID;
-  }
-  if (system != kSystem) {
-    return XR_ERROR_SYSTEM_INVALID;
+  if (const XrResult r = check_system(instance, system); r != XR_SUCCESS) {
+    return r;
   }
   if (props == nullptr || props->type != XR_TYPE_SYSTEM_PROPERTIES) {
     return XR_ERROR_VALIDATION_FAILURE;
@@ -280,11 +296,8 @@ XrResult XRAPI_CALL EnumerateViewConfigurations(XrInstance instance, XrSystemId 
                                                 uint32_t capacity, uint32_t* count,
                                                 XrViewConfigurationType* out) {
   std::lock_guard lock(state().mutex);
-  if (!valid_instance(instance)) {
-    return XR_ERROR_HANDLE_INVALID;
-  }
-  if (system != kSystem) {
-    return XR_ERROR_SYSTEM_INVALID;
+  if (const XrResult r = check_system(instance, system); r != XR_SUCCESS) {
+    return r;
   }
   const XrViewConfigurationType values[] = {XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO};
   return two_call(capacity, count, out, values, 1);
@@ -294,14 +307,8 @@ XrResult XRAPI_CALL GetViewConfigurationProperties(XrInstance instance, XrSystem
                                                    XrViewConfigurationType type,
                                                    XrViewConfigurationProperties* props) {
   std::lock_guard lock(state().mutex);
-  if (!valid_instance(instance)) {
-    return XR_ERROR_HANDLE_INVALID;
-  }
-  if (system != kSystem) {
-    return XR_ERROR_SYSTEM_INVALID;
-  }
-  if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) {
-    return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+  if (const XrResult r = check_view_configuration(instance, system, type); r != XR_SUCCESS) {
+    return r;
   }
   if (props == nullptr || props->type != XR_TYPE_VIEW_CONFIGURATION_PROPERTIES) {
     return XR_ERROR_VALIDATION_FAILURE;
@@ -315,14 +322,8 @@ XrResult XRAPI_CALL EnumerateViewConfigurationViews(XrInstance instance, XrSyste
                                                     XrViewConfigurationType type, uint32_t capacity,
                                                     uint32_t* count, XrViewConfigurationView* out) {
   std::lock_guard lock(state().mutex);
-  if (!valid_instance(instance)) {
-    return XR_ERROR_HANDLE_INVALID;
-  }
-  if (system != kSystem) {
-    return XR_ERROR_SYSTEM_INVALID;
-  }
-  if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) {
-    return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+  if (const XrResult r = check_view_configuration(instance, system, type); r != XR_SUCCESS) {
+    return r;
   }
   const XrViewConfigurationView v{
       XR_TYPE_VIEW_CONFIGURATION_VIEW, nullptr, kViewSize, 2048, kViewSize, 2048, 1, 1};
@@ -334,14 +335,8 @@ XrResult XRAPI_CALL EnumerateEnvironmentBlendModes(XrInstance instance, XrSystem
                                                    XrViewConfigurationType type, uint32_t capacity,
                                                    uint32_t* count, XrEnvironmentBlendMode* out) {
   std::lock_guard lock(state().mutex);
-  if (!valid_instance(instance)) {
-    return XR_ERROR_HANDLE_INVALID;
-  }
-  if (system != kSystem) {
-    return XR_ERROR_SYSTEM_INVALID;
-  }
-  if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) {
-    return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+  if (const XrResult r = check_view_configuration(instance, system, type); r != XR_SUCCESS) {
+    return r;
   }
   const XrEnvironmentBlendMode values[] = {XR_ENVIRONMENT_BLEND_MODE_OPAQUE};
   return two_call(capacity, count, out, values, 1);
@@ -386,11 +381,8 @@ XrResult XRAPI_CALL GetOpenGLGraphicsRequirementsKHR(XrInstance instance, XrSyst
                                                      XrGraphicsRequirementsOpenGLKHR* req) {
   Runtime& rt = state();
   std::lock_guard lock(rt.mutex);
-  if (!valid_instance(instance)) {
-    return XR_ERROR_HANDLE_INVALID;
-  }
-  if (system != kSystem) {
-    return XR_ERROR_SYSTEM_INVALID;
+  if (const XrResult r = check_system(instance, system); r != XR_SUCCESS) {
+    return r;
   }
   if (req == nullptr || req->type != XR_TYPE_GRAPHICS_REQUIREMENTS_OPENGL_KHR) {
     return XR_ERROR_VALIDATION_FAILURE;
