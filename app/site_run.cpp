@@ -127,7 +127,7 @@ class SiteRun {
       const double due = start_ + static_cast<double>(k) * kTick;
       double now = wait_until(clock, due);
       record_.late_ticks += now - due > kTick ? 1 : 0;
-      tick(k, now);
+      tick(k, now, due);
     }
     const double end = clock.now();
     observer_.interrupt();  // a hold still in progress ends with the run
@@ -149,11 +149,15 @@ class SiteRun {
     return now;
   }
 
-  void tick(std::uint64_t k, double now) {
+  // `due`: when the tick was scheduled, which is when the user's frame was sampled.
+  void tick(std::uint64_t k, double now, double due) {
     const auto& frames = a_.performance.sequence.frames;
     const std::size_t i = std::min<std::size_t>(k, frames.size() - 1);
     TrackingFrame frame = frames[i];
-    frame.time = now;  // the sender's clock
+    // Stamped with its sampling time on the sender's clock, not with when a late loop got to it:
+    // ticks caught up after a stall must not go out bunched, or the other site's jitter buffer
+    // plays them as a jerk (and its observer sees a completion that was not there).
+    frame.time = due;
     net_.session().send_tracking(frame);
     receive(now, frame.T_world_head.translation);
     record_.visible_ticks += remote_visible() ? 1 : 0;
