@@ -154,6 +154,26 @@ class Deixis {
   std::string text_[2];
 };
 
+// A command line `deixis` must refuse: exit 2 with `names` (the flag or file) in its error.
+struct BadInput {
+  std::vector<std::string> args;
+  std::string names;  // what the message must name
+};
+
+// Runs every case, each with `extra` appended (e.g. a --seconds that ends a run a wrongly
+// accepted flag would start), and expects exit 2 naming what is wrong.
+inline void expect_refused(const std::vector<BadInput>& cases,
+                           const std::vector<std::string>& extra = {}) {
+  for (const BadInput& c : cases) {
+    SCOPED_TRACE(c.args[0] + " … " + c.args.back());
+    std::vector<std::string> args = c.args;
+    args.insert(args.end(), extra.begin(), extra.end());
+    Deixis d(args);
+    EXPECT_EQ(d.wait(), 2) << d.err();
+    EXPECT_NE(d.err().find(c.names), std::string::npos) << d.err();
+  }
+}
+
 inline std::vector<std::string> operator+(std::vector<std::string> a,
                                           const std::vector<std::string>& b) {
   a.insert(a.end(), b.begin(), b.end());

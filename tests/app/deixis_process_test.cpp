@@ -104,11 +104,6 @@ TEST(DeixisSites, AWrongPassphraseIsRefused) {
   EXPECT_FALSE(fs::exists(dir.path() / "A/session.json"));
 }
 
-struct BadInput {
-  std::vector<std::string> args;
-  std::string names;  // what the message must name
-};
-
 TEST(DeixisSites, BadFlagsAndFilesExit2NamingWhatIsWrong) {
   deixis::testing::ScratchDir dir;
   const fs::path bad_site = dir.path() / "bad.json";
@@ -140,12 +135,7 @@ TEST(DeixisSites, BadFlagsAndFilesExit2NamingWhatIsWrong) {
       {{"host", "--site", bad_site.string(), "--port", "0"}, "bad.json"},
       {{"host", "--site", bad_site.string(), "--port", "0"}, "999"},
   };
-  for (const BadInput& c : cases) {
-    SCOPED_TRACE(c.args[0] + " … " + c.args.back());
-    Deixis d(c.args);
-    EXPECT_EQ(d.wait(), 2) << d.err();
-    EXPECT_NE(d.err().find(c.names), std::string::npos) << d.err();
-  }
+  expect_refused(cases);
 }
 
 TEST(DeixisSites, HelpOfEveryCommandExits0) {

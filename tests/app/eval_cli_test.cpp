@@ -57,16 +57,12 @@ TEST(EvalCli, TheTrainingSubjectsDataIsRefused) {
 }
 
 TEST(EvalCli, BadFlagsExitTwoNamingThem) {
-  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+  const std::vector<BadInput> cases = {
       {{"eval", "--weights", "nolabel"}, "--weights"},
       {{"eval", "--data", "/nonexistent/dir"}, "--data"},
       {{"eval", "--frobnicate"}, "--frobnicate"},
   };
-  for (const auto& [args, named] : cases) {
-    Deixis d(args);
-    EXPECT_EQ(d.wait(), 2) << args[1];
-    EXPECT_NE(d.err().find(named), std::string::npos) << d.err();
-  }
+  expect_refused(cases);
 }
 
 }  // namespace

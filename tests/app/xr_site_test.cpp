@@ -154,7 +154,7 @@ TEST_F(XrSite, AWrongPassphraseEndsTheSessionWithTheRefusal) {
 }
 
 TEST_F(XrSite, BadFlagsExitTwoNamingThem) {
-  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+  const std::vector<BadInput> cases = {
       {{"xr", "--join", "localhost"}, "--join"},
       {{"xr", "--join", "127.0.0.1:99999"}, "--join"},
       {{"xr", "--port", "7000"}, "--port"},  // only with --host
@@ -162,11 +162,7 @@ TEST_F(XrSite, BadFlagsExitTwoNamingThem) {
       {{"xr", "--hand", "both"}, "--hand"},
       {{"xr", "--height", "3"}, "--height"},
   };
-  for (const auto& [args, named] : cases) {
-    Deixis d(args);
-    EXPECT_EQ(d.wait(), 2) << args[1];
-    EXPECT_NE(d.err().find(named), std::string::npos) << d.err();
-  }
+  expect_refused(cases);
 }
 
 }  // namespace

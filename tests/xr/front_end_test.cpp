@@ -21,6 +21,7 @@
 #include "render/image.h"
 #include "render/offscreen_target.h"
 #include "render/renderer.h"
+#include "tests/xr/session_run.h"
 #include "tests/xr/xr_fixture.h"
 #include "xr/frame_loop.h"
 #include "xr/gl_session.h"
@@ -105,23 +106,15 @@ struct RunResult {
 RunResult run_session(bool headless) {
   render::HeadlessContext context(16, 16);
   render::Renderer renderer;
+  RecordingSink sink(renderer);
+  const SessionRun run = run_session_with(headless, sink);
   RunResult out;
-  {
-    InstanceOptions options;
-    options.headless = headless;
-    Instance instance(options);
-    GlSession session(instance);
-    Swapchains swapchains(instance, session);
-    Input input(instance, session);
-    FrameLoop loop(instance, session, swapchains, input);
-    RecordingSink sink(renderer);
-    out.loop = loop.run({}, sink);
-    out.frames = sink.frames;
-    out.rendered = sink.rendered;
-    out.last_eye = sink.last_eye;
-    out.hand_tracking = input.hand_tracking();
-    out.eye_gaze = input.eye_gaze();
-  }
+  out.loop = run.loop;
+  out.frames = sink.frames;
+  out.rendered = sink.rendered;
+  out.last_eye = sink.last_eye;
+  out.hand_tracking = run.hand_tracking;
+  out.eye_gaze = run.eye_gaze;
   return out;
 }
 
@@ -261,17 +254,7 @@ TEST_F(FrontEnd, TheSrgbSwapchainHoldsTheDesktopsBytes) {
   render::HeadlessContext context(16, 16);
   render::Renderer renderer;
   ComparingSink sink(renderer);
-  std::int64_t format = 0;
-  {
-    Instance instance(InstanceOptions{});
-    GlSession session(instance);
-    Swapchains swapchains(instance, session);
-    format = swapchains.format();
-    Input input(instance, session);
-    FrameLoop loop(instance, session, swapchains, input);
-    loop.run({}, sink);
-  }
-  EXPECT_EQ(format, GL_SRGB8_ALPHA8);
+  EXPECT_EQ(run_session_with(false, sink).swapchain_format, GL_SRGB8_ALPHA8);
   const render::Image& a = sink.swapchain_image;
   const render::Image& b = sink.desktop_image;
   ASSERT_GT(a.width, 0);

@@ -16,12 +16,8 @@
 #include "render/headless_context.h"
 #include "test_support.h"
 #include "tests/xr/runtime_script.h"
+#include "tests/xr/session_run.h"
 #include "tests/xr/xr_fixture.h"
-#include "xr/frame_loop.h"
-#include "xr/gl_session.h"
-#include "xr/input.h"
-#include "xr/instance.h"
-#include "xr/swapchains.h"
 
 namespace deixis::xr {
 namespace {
@@ -45,18 +41,10 @@ class HeadsetPointAt : public XrRuntimeTest {
   std::vector<TrackingFrame> through_the_headset(const capture::Sequence& s) {
     write_script(runtime_script(s.frames, false));
     render::HeadlessContext context(16, 16);
-    InstanceOptions options;
-    options.headless = true;
-    Instance instance(options);
-    GlSession session(instance);
-    Swapchains swapchains(instance, session);
-    Input input(instance, session);
-    FrameLoop loop(instance, session, swapchains, input);
     TrackingRecorder recorder(s.size());
-    const FrameLoopResult result = loop.run({}, recorder);
-    EXPECT_FALSE(result.lost);
-    EXPECT_TRUE(input.hand_tracking());
-    ++sequences_;
+    const SessionRun run = run_session_with(true, recorder);
+    EXPECT_FALSE(run.loop.lost);
+    EXPECT_TRUE(run.hand_tracking);
     for (const TrackingFrame& f : recorder.tracking) {
       gaze_frames_ += (f.valid & tracked::kGaze) != 0 ? 1 : 0;
     }
@@ -86,7 +74,6 @@ class HeadsetPointAt : public XrRuntimeTest {
     EXPECT_EQ(validation_messages(), "");
   }
 
-  int sequences_ = 0;
   std::size_t frames_ = 0, gaze_frames_ = 0;
 };
 
