@@ -21,30 +21,37 @@ Vec3 position_of(TargetId id, const TargetMap& room, const Vec3& partner_head) {
   return object != nullptr ? object->position : partner_head;
 }
 
-// The candidate nearest to a ray from `origin` along `direction` in angle, and that angle.
-// `fingertip` (may be null): a candidate whose surface it nearly touches counts as 0°.
+// What a person designates with: a ray from `origin` along `direction` (none for a hand held
+// too near the body), and optionally a fingertip that designates whatever surface it touches.
+struct Designation {
+  Vec3 origin = Vec3::Zero();
+  Vec3 direction = Vec3::Zero();
+  bool has_ray = true;
+  const Vec3* fingertip = nullptr;
+  float touch_m = 0.0f;
+};
+
+// How far a candidate is from being designated, in degrees: 0 when the fingertip touches it,
+// else its angle off the ray, ∞ without a ray. `object` is null for the other person.
+float angle_to(const Designation& d, const TargetObject* object, const Vec3& centre) {
+  if (d.fingertip != nullptr && object != nullptr &&
+      (*d.fingertip - closest_surface_point(*object, *d.fingertip)).norm() <= d.touch_m) {
+    return 0.0f;
+  }
+  return d.has_ray ? angle_deg(d.direction, centre - d.origin)
+                   : std::numeric_limits<float>::infinity();
+}
+
 struct Nearest {
   TargetId id = kNoTarget;
   float angle_deg = std::numeric_limits<float>::infinity();
 };
 
-float candidate_angle(const Vec3& origin, const Vec3& direction, const Vec3* fingertip,
-                      float touch_m, const TargetObject* object, const Vec3& centre) {
-  if (fingertip != nullptr && object != nullptr &&
-      (*fingertip - closest_surface_point(*object, *fingertip)).norm() <= touch_m) {
-    return 0.0f;
-  }
-  return angle_deg(direction, centre - origin);
-}
-
-Nearest nearest(const Vec3& origin, const Vec3& direction, const Vec3* fingertip, float touch_m,
-                const TargetMap& room, const Vec3& partner_head) {
-  Nearest best;
-  best.id = kPartnerTarget;
-  best.angle_deg = angle_deg(direction, partner_head - origin);
+// The candidate nearest to being designated (the first of equals), and its angle.
+Nearest nearest(const Designation& d, const TargetMap& room, const Vec3& partner_head) {
+  Nearest best{kPartnerTarget, angle_to(d, nullptr, partner_head)};
   for (const TargetObject& object : room.objects) {
-    const float a =
-        candidate_angle(origin, direction, fingertip, touch_m, &object, object.position);
+    const float a = angle_to(d, &object, object.position);
     if (a < best.angle_deg) {
       best = {object.id, a};
     }
@@ -52,35 +59,15 @@ Nearest nearest(const Vec3& origin, const Vec3& direction, const Vec3* fingertip
   return best;
 }
 
-// The current target's angle to the ray (∞ when it no longer exists in this room).
-float current_angle(TargetId current, const Vec3& origin, const Vec3& direction,
-                    const Vec3* fingertip, float touch_m, const TargetMap& room,
+// The current target's angle (∞ when it no longer exists in this room).
+float current_angle(TargetId current, const Designation& d, const TargetMap& room,
                     const Vec3& partner_head) {
   if (current == kPartnerTarget) {
-    return angle_deg(direction, partner_head - origin);
+    return angle_to(d, nullptr, partner_head);
   }
   const TargetObject* object = room.find(current);
-  if (object == nullptr) {
-    return std::numeric_limits<float>::infinity();
-  }
-  return candidate_angle(origin, direction, fingertip, touch_m, object, object->position);
-}
-
-// Without a pointing ray: the object the fingertip touches (0°), if any.
-Nearest touched(const Vec3& tip, float touch_m, const TargetMap& room) {
-  for (const TargetObject& object : room.objects) {
-    if ((tip - closest_surface_point(object, tip)).norm() <= touch_m) {
-      return {object.id, 0.0f};
-    }
-  }
-  return {};
-}
-
-float touch_angle(TargetId current, const Vec3& tip, float touch_m, const TargetMap& room) {
-  const TargetObject* object = room.find(current);
-  return object != nullptr && (tip - closest_surface_point(*object, tip)).norm() <= touch_m
-             ? 0.0f
-             : std::numeric_limits<float>::infinity();
+  return object != nullptr ? angle_to(d, object, object->position)
+                           : std::numeric_limits<float>::infinity();
 }
 
 // Whether `best` takes over from `current`, with the hysteresis margin.
@@ -104,10 +91,10 @@ void TargetSelector::select(TrackingFrame& frame, const TargetMap& room, const V
     const Vec3 gaze = (frame.valid & tracked::kGaze) != 0
                           ? frame.gaze
                           : Vec3(frame.T_world_head.rotation * Vec3(0, 0, -1));
-    const Nearest best = nearest(head, gaze, nullptr, 0.0f, room, partner_head);
+    const Designation eyes{head, gaze};
+    const Nearest best = nearest(eyes, room, partner_head);
     if (best.id != head_target &&
-        takes_over(best, current_angle(head_target, head, gaze, nullptr, 0.0f, room, partner_head),
-                   config)) {
+        takes_over(best, current_angle(head_target, eyes, room, partner_head), config)) {
       head_target = best.id;
     }
   }
@@ -116,12 +103,10 @@ void TargetSelector::select(TrackingFrame& frame, const TargetMap& room, const V
     const Vec3& tip = frame.index_tip[static_cast<std::size_t>(index(hand))];
     const Vec3 ray = tip - head;
     // A hand nearer than the pointing reach designates only what it touches.
-    const bool extended = ray.norm() >= config.pointing_reach_m;
-    const Nearest best = extended ? nearest(head, ray, &tip, config.touch_m, room, partner_head)
-                                  : touched(tip, config.touch_m, room);
-    const float current =
-        extended ? current_angle(hand_target, head, ray, &tip, config.touch_m, room, partner_head)
-                 : touch_angle(hand_target, tip, config.touch_m, room);
+    const Designation finger{head, ray, ray.norm() >= config.pointing_reach_m, &tip,
+                             config.touch_m};
+    const Nearest best = nearest(finger, room, partner_head);
+    const float current = current_angle(hand_target, finger, room, partner_head);
     bool switched = false;
     if (best.id != hand_target && takes_over(best, current, config)) {
       const bool at_once = best.id == head_target;  // the eyes are on it already
