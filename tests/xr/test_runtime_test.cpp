@@ -6,13 +6,17 @@
 #include <openxr/openxr.h>
 #include <openxr/openxr_reflection.h>
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -171,6 +175,46 @@ TEST_F(TestRuntime, ScriptedHeadlessSessionRunsToExitingInOrderWithoutValidation
                                              "IDLE",    "EXITING"};
   EXPECT_EQ(states, expected);
   EXPECT_EQ(validation_errors(), "");
+}
+
+// A malformed script is refused at xrCreateInstance, its message naming the bad field.
+TEST_F(TestRuntime, ABadScriptIsRefusedNamingTheField) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {R"({"realtime": "yes", "keys": [{"t": 0}]})", "realtime"},
+      {R"({"display_hz": 0, "keys": [{"t": 0}]})", "display_hz"},
+      {R"({"frames": -1, "keys": [{"t": 0}]})", "frames"},
+      {R"({"display_hz": 30})", "keys"},
+  };
+  for (const auto& [script, field] : cases) {
+    write_script(script);
+    const char* extensions[] = {"XR_MND_headless"};
+    auto ci = make<XrInstanceCreateInfo>(XR_TYPE_INSTANCE_CREATE_INFO);
+    std::snprintf(ci.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "deixis-test");
+    ci.applicationInfo.apiVersion = XR_CURRENT_API_VERSION;
+    ci.enabledExtensionCount = 1;
+    ci.enabledExtensionNames = extensions;
+    // The runtime says why on stderr: catch it in a file.
+    const fs::path caught = dir_ / "stderr.txt";
+    std::fflush(stderr);
+    const int saved = dup(STDERR_FILENO);
+    const int file = open(caught.c_str(), O_CREAT | O_TRUNC | O_WRONLY, 0644);
+    dup2(file, STDERR_FILENO);
+    const XrResult r = xrCreateInstance(&ci, &instance_);
+    std::fflush(stderr);
+    dup2(saved, STDERR_FILENO);
+    close(saved);
+    close(file);
+    EXPECT_EQ(r, XR_ERROR_INITIALIZATION_FAILED) << script;
+    if (XR_SUCCEEDED(r)) {
+      xrDestroyInstance(instance_);
+    }
+    instance_ = XR_NULL_HANDLE;
+    std::ifstream in(caught);
+    std::stringstream said;
+    said << in.rdbuf();
+    EXPECT_NE(said.str().find("DEIXIS_XR_SCRIPT"), std::string::npos) << said.str();
+    EXPECT_NE(said.str().find(field), std::string::npos) << said.str();
+  }
 }
 
 TEST_F(TestRuntime, RefusesOutOfOrderCalls) {
