@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "gesture/error.h"
+#include "gesture/train/conv_as_matmul.h"
 #include "gesture/train/forward.h"
 #include "gesture/train/fused_experts.h"
 #include "gesture/train/fused_gru.h"
@@ -360,12 +361,18 @@ class MotionAutoencoder : public TrainableNetwork {
             "conv_decode1",
             torch::nn::ConvTranspose1d(torch::nn::ConvTranspose1dOptions(256, 18, 15)))) {}
 
-  torch::Tensor encode(const torch::Tensor& segments) {
-    return encode2_(torch::relu(encode1_(segments.permute({0, 2, 1}))));  // [batch, 128, 1]
+  // The modules hold the parameters (names, layouts and initialisation of the authors' model);
+  // the maths runs as matrix products on time-major tensors (conv_as_matmul.h says why).
+  torch::Tensor encode(const torch::Tensor& segments) {  // [batch, 30, 18] → [batch, 1, 128]
+    const torch::Tensor hidden =
+        torch::relu(conv1d_as_matmul(segments, encode1_->weight, encode1_->bias));
+    return conv1d_as_matmul(hidden, encode2_->weight, encode2_->bias);
   }
   torch::Tensor forward(const torch::Tensor& segments) override {
     const torch::Tensor code = encode(segments);
-    return decode1_(torch::relu(decode2_(code))).permute({0, 2, 1});
+    const torch::Tensor hidden =
+        torch::relu(conv_transpose1d_as_matmul(code, decode2_->weight, decode2_->bias));
+    return conv_transpose1d_as_matmul(hidden, decode1_->weight, decode1_->bias);
   }
 
  private:
@@ -425,7 +432,7 @@ torch::Tensor motion_codes(TrainableNetwork& autoencoder, const torch::Tensor& s
   if (a == nullptr) {
     throw Error("motion_codes: not the motion autoencoder");
   }
-  return a->encode(segments).squeeze(2);
+  return a->encode(segments).squeeze(1);
 }
 
 void load_weights(TrainableNetwork& model, const SafetensorsFile& file) {
