@@ -177,7 +177,14 @@ int main(int argc, char** argv) {
       "segments of head and hand");
   add_common(autoencoder, autoencoder_flags, "");
 
-  CLI11_PARSE(app, argc, argv);
+  // Bad flags exit 2 (as bad files do, and as `deixis` does), with CLI11's message naming the
+  // flag; --help exits 0.
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
 
   std::string command_line;
   for (int i = 0; i < argc; ++i) {

@@ -1,0 +1,161 @@
+// tools/train-set as a user runs it (a real shell script starting real deixis-train processes, two
+// at a time): on a tiny capture it trains the shipped set for one epoch of two batches, and
+// assembles a weight set under the authors' file names that the runtime loads as the right
+// networks; run again, every run resumes from its finished checkpoint instead of training again;
+// bad options and missing data exit 2 naming them, and a failing run fails the command.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "gesture/nn/mpnet.h"
+#include "gesture/nn/ugnet.h"
+#include "test_support.h"
+
+namespace deixis::train {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int exit_code = -1;
+  std::string output;  // standard output and error together
+};
+
+std::string read_all(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// `command` through the shell, its output captured in `scratch`.
+Outcome run(const std::string& command, const fs::path& scratch) {
+  const fs::path log = scratch / "command.log";
+  const int status = std::system((command + " > '" + log.string() + "' 2>&1").c_str());
+  Outcome outcome;
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  outcome.output = read_all(log);
+  return outcome;
+}
+
+// The parts one after the other. (Appended piecewise: GCC 12 warns falsely, -Wrestrict, on
+// short literal + std::string concatenations.)
+template <typename... Parts>
+std::string concat(const Parts&... parts) {
+  std::string s;
+  (s.append(parts), ...);
+  return s;
+}
+
+std::string quoted(const std::string& path) {
+  return concat("'", path, "'");
+}
+
+std::string train_set() {
+  return quoted((deixis::testing::source_dir() / "tools/train-set").string());
+}
+
+// The training subject and one held-out subject per hand, at 2 % of the protocol's counts.
+fs::path make_tiny_capture(const fs::path& scratch) {
+  const fs::path data = scratch / "data";
+  const Outcome capture = run(
+      std::string("'") + DEIXIS_EXE +
+          "' capture generate --sets train test --subjects 170,161,173 --count-scale 0.02 -o '" +
+          data.string() + "'",
+      scratch);
+  EXPECT_EQ(capture.exit_code, 0) << capture.output;
+  return data;
+}
+
+std::string train_command(const fs::path& data, const fs::path& out) {
+  return train_set() + " --data '" + data.string() + "' --out '" + out.string() + "' --trainer '" +
+         DEIXIS_TRAIN_EXE + "' -- --epochs 1 --max-batches 2";
+}
+
+TEST(TrainSet, TrainsTheShippedSetAndAssemblesAWeightSetTheRuntimeLoads) {
+  deixis::testing::ScratchDir scratch;
+  const fs::path data = make_tiny_capture(scratch.path());
+  const fs::path out = scratch.path() / "train";
+  const Outcome first = run(train_command(data, out), scratch.path());
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  for (const char* run_name :
+       {"mpnet-moe-right", "mpnet-moe-left", "ugnet-moe-right", "ugnet-moe-left"}) {
+    // Each run's epoch line reaches the terminal with the run's name.
+    EXPECT_NE(first.output.find(concat("[", run_name, "] epoch 1/1")), std::string::npos)
+        << run_name << "\n"
+        << first.output;
+  }
+  for (const char* hand : {"right", "left"}) {
+    const fs::path set = out / "weights" / hand;
+    // One epoch, so the authors' names carry 1 where the full schedule's carry 80 and 120.
+    EXPECT_EQ(nn::Mpnet::load(set / "MPNet(MoE)(AC)1.safetensors").architecture(),
+              nn::MpnetArchitecture::kGruMoe);
+    EXPECT_EQ(nn::Ugnet::load(set / "UGNet(MoE)(AC)1.safetensors").architecture(),
+              nn::UgnetArchitecture::kMoe);
+    const std::string manifest = read_all(set / "MPNet(MoE)(AC)1.manifest.json");
+    EXPECT_NE(manifest.find(concat("\"hand\": \"", hand, "\"")), std::string::npos) << manifest;
+  }
+
+  // Again: every run finds its finished checkpoint and only exports; nothing trains.
+  const std::string weights_before = read_all(out / "weights/left/UGNet(MoE)(AC)1.safetensors");
+  const Outcome second = run(train_command(data, out), scratch.path());
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  EXPECT_EQ(second.output.find("epoch 1/1"), std::string::npos) << second.output;
+  std::size_t resumed = 0;
+  for (std::size_t at = second.output.find("resuming from"); at != std::string::npos;
+       at = second.output.find("resuming from", at + 1)) {
+    ++resumed;
+  }
+  EXPECT_EQ(resumed, 4u) << second.output;
+  EXPECT_EQ(read_all(out / "weights/left/UGNet(MoE)(AC)1.safetensors"), weights_before);
+}
+
+TEST(TrainSet, BadOptionsAndMissingDataExitTwoNamingThem) {
+  deixis::testing::ScratchDir scratch;
+  const Outcome bad_set = run(train_set() + " --set everything", scratch.path());
+  EXPECT_EQ(bad_set.exit_code, 2);
+  EXPECT_NE(bad_set.output.find("'everything'"), std::string::npos) << bad_set.output;
+
+  const Outcome bad_option = run(train_set() + " --fast", scratch.path());
+  EXPECT_EQ(bad_option.exit_code, 2);
+  EXPECT_NE(bad_option.output.find("'--fast'"), std::string::npos) << bad_option.output;
+
+  const fs::path missing = scratch.path() / "no-data";
+  const Outcome no_data =
+      run(train_set() + " --trainer '" + DEIXIS_TRAIN_EXE + "' --data '" + missing.string() + "'",
+          scratch.path());
+  EXPECT_EQ(no_data.exit_code, 2);
+  EXPECT_NE(no_data.output.find((missing / "train_right.safetensors").string()), std::string::npos)
+      << no_data.output;
+
+  // deixis-train itself: a bad flag exits 2 naming it, as `deixis` does (the required flags given,
+  // any existing file as --data, so the unknown flag is what is refused).
+  const Outcome trainer = run(concat(quoted(DEIXIS_TRAIN_EXE), " mpnet --data ", train_set(),
+                                     " --out ", quoted((scratch.path() / "t").string()), " --fast"),
+                              scratch.path());
+  EXPECT_EQ(trainer.exit_code, 2);
+  EXPECT_NE(trainer.output.find("--fast"), std::string::npos) << trainer.output;
+}
+
+TEST(TrainSet, AFailingRunFailsTheCommandAndShowsWhy) {
+  deixis::testing::ScratchDir scratch;
+  const fs::path data = make_tiny_capture(scratch.path());
+  const Outcome failed = run(train_set() + " --data '" + data.string() + "' --out '" +
+                                 (scratch.path() / "train").string() + "' --trainer '" +
+                                 DEIXIS_TRAIN_EXE + "' -- --epochs 0",
+                             scratch.path());
+  EXPECT_EQ(failed.exit_code, 1) << failed.output;
+  EXPECT_NE(failed.output.find("[ugnet-moe-right] FAILED (exit 2)"), std::string::npos)
+      << failed.output;
+  EXPECT_NE(failed.output.find("--epochs"), std::string::npos) << failed.output;
+  EXPECT_FALSE(fs::exists(scratch.path() / "train/weights/right/MPNet(MoE)(AC)0.safetensors"));
+}
+
+}  // namespace
+}  // namespace deixis::train
