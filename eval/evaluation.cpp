@@ -6,6 +6,7 @@
 #include <map>
 #include <optional>
 
+#include "eval/encoder_report.h"
 #include "gesture/error.h"
 
 namespace deixis::eval {
@@ -162,8 +163,8 @@ struct Context {
   }
 };
 
-// The FMD encoder for a hand: --fmd-encoder's, else the first weight set that has one.
-std::optional<nn::MotionEncoder> find_encoder(const EvalOptions& o, Hand hand) {
+// The FMD encoder's file for a hand: --fmd-encoder's, else the first weight set that has one.
+std::optional<fs::path> encoder_file(const EvalOptions& o, Hand hand) {
   std::vector<fs::path> dirs;
   if (!o.encoder_dir.empty()) {
     dirs.push_back(o.encoder_dir);
@@ -175,12 +176,19 @@ std::optional<nn::MotionEncoder> find_encoder(const EvalOptions& o, Hand hand) {
   for (const fs::path& d : dirs) {
     const fs::path p = d / hand_dir(hand) / (std::string(kEncoder) + ".safetensors");
     if (fs::exists(p)) {
-      return nn::MotionEncoder::load(p);
+      return p;
     }
   }
   if (!o.encoder_dir.empty()) {
     throw Error((o.encoder_dir / hand_dir(hand) / "AutoEncoder.safetensors").string() +
                 ": no such file (--fmd-encoder needs right/ and left/)");
+  }
+  return std::nullopt;
+}
+
+std::optional<nn::MotionEncoder> find_encoder(const EvalOptions& o, Hand hand) {
+  if (const std::optional<fs::path> p = encoder_file(o, hand)) {
+    return nn::MotionEncoder::load(*p);
   }
   return std::nullopt;
 }
@@ -326,7 +334,7 @@ void measure_networks(Tables& t, const EvalOptions& o, std::vector<Networks>& ne
   }
 }
 
-void add_notes(Tables& t, bool have_encoder) {
+void add_notes(Tables& t, const EvalOptions& o, bool have_encoder) {
   const std::string fmd =
       have_encoder ? "FMD: mean ± population std over subjects × trials (NOTES §7.5)."
                    : "FMD: n/a — no trained motion encoder was found (train it with `deixis-train "
@@ -346,6 +354,13 @@ void add_notes(Tables& t, bool have_encoder) {
       "user's root, put at the avatar's); its FMD is 0 by construction, since FMD's real "
       "motion is the user's own (NOTES §7.5).",
       fmd};
+  if (have_encoder) {
+    for (const Hand hand : {Hand::kRight, Hand::kLeft}) {
+      if (const std::optional<fs::path> p = encoder_file(o, hand)) {
+        t.one.notes.push_back(describe_encoder(*p, hand_dir(hand)));
+      }
+    }
+  }
   t.two.notes = {
       "Size: float32 parameters. Inference: mean time per call, batch 1, one thread, "
       "measured by deixis eval on this machine (busy machines read slower; "
@@ -457,7 +472,7 @@ Report evaluate(const EvalOptions& options) {
   }
   TableRow amnet{"AMNet_DG", "", {}, {}, "not evaluated (see notes)"};
   tables.one.rows.insert(tables.one.rows.end() - 1, amnet);
-  add_notes(tables, have_encoder);
+  add_notes(tables, options, have_encoder);
   report.figure5 = figure5_of(tables.five, options.weights);
   report.tables = {tables.one, tables.two, tables.three, tables.four, tables.five};
   report.notes = {

@@ -102,24 +102,35 @@ void write_manifest(const std::filesystem::path& path, const Manifest& m) {
                          {"clip_rows", kClipRows},
                          {"clip_hop", kClipHop},
                          {"windows_per_clip", kWindowsPerClip}};
-  const json manifest = {{"weights", m.weights_file},
-                         {"network", m.network},
-                         {"variant", m.variant},
-                         {"hand", m.hand},
-                         {"command_line", m.command_line},
-                         {"seed", m.seed},
-                         {"threads", m.threads},
-                         {"commit", m.commit},
-                         {"dataset_hash", m.dataset_hash},
-                         {"dataset_files", m.dataset_files},
-                         {"train_examples", m.train_examples},
-                         {"validation_examples", m.validation_examples},
-                         {"parameter_count", m.parameter_count},
-                         {"schedule", schedule},
-                         {"wall_seconds", m.train_seconds},
-                         {"final_train_loss", number_or_null(last.train_loss)},
-                         {"final_validation_loss", number_or_null(last.validation_loss)},
-                         {"history", history}};
+  json manifest = {{"weights", m.weights_file},
+                   {"network", m.network},
+                   {"variant", m.variant},
+                   {"hand", m.hand},
+                   {"command_line", m.command_line},
+                   {"seed", m.seed},
+                   {"threads", m.threads},
+                   {"commit", m.commit},
+                   {"dataset_hash", m.dataset_hash},
+                   {"dataset_files", m.dataset_files},
+                   {"train_examples", m.train_examples},
+                   {"validation_examples", m.validation_examples},
+                   {"parameter_count", m.parameter_count},
+                   {"schedule", schedule},
+                   {"wall_seconds", m.train_seconds},
+                   {"final_train_loss", number_or_null(last.train_loss)},
+                   {"final_validation_loss", number_or_null(last.validation_loss)},
+                   {"history", history}};
+  if (m.training_reconstruction || m.validation_reconstruction) {
+    // Per frame, head and hand averaged: the figures the paper gives for its encoder (§V).
+    auto entry = [&](const std::optional<ReconstructionError>& e) {
+      return e ? json{{"position_cm", number_or_null(e->position_cm)},
+                      {"rotation_deg", number_or_null(e->rotation_deg)},
+                      {"segments", e->segments}}
+               : json(nullptr);
+    };
+    manifest["reconstruction"] = {{"training", entry(m.training_reconstruction)},
+                                  {"validation", entry(m.validation_reconstruction)}};
+  }
   const std::filesystem::path temporary = path.string() + ".tmp";
   {
     std::ofstream out(temporary);

@@ -4,6 +4,8 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +13,14 @@
 #include "gesture/train/schedule.h"
 
 namespace deixis::train {
+
+// The FMD autoencoder's average per-frame reconstruction error of head and hand
+// (gesture/train/reconstruction.h computes it).
+struct ReconstructionError {
+  double position_cm = std::numeric_limits<double>::quiet_NaN();
+  double rotation_deg = std::numeric_limits<double>::quiet_NaN();
+  std::size_t segments = 0;
+};
 
 struct Manifest {
   std::string weights_file;  // file name of the weights this describes
@@ -29,6 +39,8 @@ struct Manifest {
   Schedule schedule;
   double train_seconds = 0;  // wall time spent training, summed over resumed runs
   std::vector<EpochReport> history;
+  // The autoencoder only: its reconstruction of the training and the validation segments.
+  std::optional<ReconstructionError> training_reconstruction, validation_reconstruction;
 };
 
 void write_manifest(const std::filesystem::path& path, const Manifest& manifest);

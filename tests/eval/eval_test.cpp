@@ -252,6 +252,13 @@ TEST_F(EvalRun, QuickRunWritesWellFormedTables) {
   ASSERT_EQ(j["figure5"].size(), 1u);
   EXPECT_EQ(j["figure5"][0]["seconds"].size(), 5u);
   EXPECT_NE(markdown(report).find("## Table IV."), std::string::npos);
+  // Table I's notes say which encoder measured FMD, per hand (this random one has no manifest,
+  // so its reconstruction errors are said to be unknown rather than invented).
+  const std::string notes = j["tables"][0]["notes"].dump();
+  for (const char* hand : {"FMD encoder, right hand", "FMD encoder, left hand"}) {
+    EXPECT_NE(notes.find(hand), std::string::npos) << notes;
+  }
+  EXPECT_NE(notes.find("no manifest"), std::string::npos) << notes;
 }
 
 TEST_F(EvalRun, RefusesTrainingSubjectData) {

@@ -78,6 +78,29 @@ TEST(Training, TinyUgnetLowersItsLossWithScheduledSampling) {
   EXPECT_EQ(runtime.architecture(), nn::UgnetArchitecture::kMoe);
 }
 
+TEST(Training, TinyAutoencoderLowersItsLossAndReportsItsReconstruction) {
+  deixis::testing::ScratchDir dir;
+  const std::vector<Sequence> train = test_data::synthetic_sequences(20, 60, 5);
+  const std::vector<Sequence> validation = test_data::synthetic_sequences(6, 60, 6);
+  const TrainingData data{motion_segments(train), motion_segments(validation)};
+  std::ostringstream log;
+  const TrainOutcome out =
+      train::train(tiny_options(Network::kMotionAutoencoder, dir.path()), data, log);
+  ASSERT_EQ(out.history.size(), 3u);
+  EXPECT_LT(out.history.back().train_loss, out.history.front().train_loss) << log.str();
+  // The paper's encoder figures: per-frame position and rotation error, training and validation.
+  EXPECT_NE(log.str().find("reconstruction per frame: training "), std::string::npos) << log.str();
+  const nlohmann::json manifest = nlohmann::json::parse(std::ifstream(out.manifest));
+  for (const char* set : {"training", "validation"}) {
+    const nlohmann::json& e = manifest.at("reconstruction").at(set);
+    EXPECT_GT(e.at("position_cm").get<double>(), 0.0) << set;
+    EXPECT_GT(e.at("rotation_deg").get<double>(), 0.0) << set;
+    EXPECT_LT(e.at("rotation_deg").get<double>(), 180.0) << set;
+  }
+  EXPECT_EQ(manifest.at("reconstruction").at("training").at("segments").get<std::size_t>(),
+            data.train.count);
+}
+
 TEST(Training, TooLittleDataIsAClearError) {
   deixis::testing::ScratchDir dir;
   const TrainingData data{mpnet_clips(test_data::synthetic_sequences(1, 50, 4)), {}};
