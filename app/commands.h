@@ -113,6 +113,7 @@ struct EvalOptions {
   std::filesystem::path out_dir = "out/eval";
   std::vector<std::string> subjects;
   bool quick = false;
+  int threads = 0;  // units of work at a time; 0: one per core
   std::string command_line;
 };
 int run_eval(const EvalOptions& options);

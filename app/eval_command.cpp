@@ -69,6 +69,7 @@ int run_eval(const EvalOptions& o) {
     options.weights = weight_sets(o);
     options.encoder_dir = o.encoder_dir;
     options.quick = o.quick;
+    options.threads = o.threads;
     options.sampling = o.quick ? eval::quick_sampling() : eval::full_sampling();
     options.command = o.command_line;
     options.progress = [](const std::string& line) {

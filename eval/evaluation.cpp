@@ -4,9 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <mutex>
 #include <optional>
+#include <thread>
 
 #include "eval/encoder_report.h"
+#include "eval/parallel.h"
 #include "gesture/error.h"
 
 namespace deixis::eval {
@@ -153,11 +156,15 @@ struct Tables {
   }
 };
 
+// What a unit of work writes to (its own tables) and reports through (the caller's progress
+// callback, one line at a time: units run on several threads).
 struct Context {
   const EvalOptions& options;
   Tables& tables;
+  std::mutex& progress_lock;
   void progress(const std::string& message) const {
     if (options.progress) {
+      const std::lock_guard<std::mutex> hold(progress_lock);
       options.progress(message);
     }
   }
@@ -247,41 +254,109 @@ void evaluate_robustness(const Context& c, const TestSet& set, const Generator& 
   c.progress(line);
 }
 
-void evaluate_subject(const Context& c, const fs::path& file, std::vector<Networks>& networks,
-                      std::vector<std::string>& subjects) {
-  const TestSet set = TestSet::read(file);
-  subjects.push_back(set.subject());
-  const Hand hand = set.hand();
-  c.progress("[" + set.subject() + "] " + file.string() + ": " + std::to_string(set.sequences()) +
-             " sequences, " + (hand == Hand::kLeft ? "left" : "right") + "-handed, " +
-             std::to_string(set.height()).substr(0, 4) + " m");
-  const std::optional<nn::MotionEncoder> encoder = find_encoder(c.options, hand);
-  const nn::MotionEncoder* enc = encoder ? &*encoder : nullptr;
-  for (std::size_t w = 0; w < networks.size(); ++w) {
-    const std::string& ws = c.options.weights[w].label;
-    for (const MpnetSpec& m : kMpnets) {
-      if (const nn::Mpnet* net = networks[w].mpnet(hand, m.file)) {
-        const MpeResult mpe = run_mpe(*net, set, c.options.sampling);
-        const Mean ss = run_state_stability(*net, set, c.options.sampling);
-        put(c.tables.three, m.label, ws, set.subject(),
-            {mpe.all.frames ? std::optional<double>(mpe.all.total()) : std::nullopt, ss.value()});
+// One unit of work on one subject: the MPNet rows of a weight set (Tables III), one chained row
+// of a weight set (Tables I, IV and, for MoE (AC), V), or the copy-paste row. Units share nothing
+// mutable: each loads the networks it needs and writes its own tables.
+struct Unit {
+  std::size_t subject = 0;             // index into the test sets
+  std::optional<std::size_t> weights;  // the weight set; none: copy-paste
+  std::optional<std::size_t> chain;    // index into kChains; none: the MPNet rows
+};
+
+// The units in the order the tables list their rows: per subject, per weight set, the MPNets,
+// then each chain; the subject's copy-paste row last.
+std::vector<Unit> units_of(std::size_t subjects, std::size_t weight_sets) {
+  std::vector<Unit> units;
+  for (std::size_t s = 0; s < subjects; ++s) {
+    for (std::size_t w = 0; w < weight_sets; ++w) {
+      units.push_back({s, w, std::nullopt});
+      for (std::size_t chain = 0; chain < kChains.size(); ++chain) {
+        units.push_back({s, w, chain});
       }
     }
-    c.progress("[" + set.subject() + "] " + ws + ": MPE and SS");
-    for (const ChainSpec& chain : kChains) {
-      const nn::Mpnet* mp = networks[w].mpnet(hand, chain.mpnet);
-      const nn::Ugnet* ug = networks[w].ugnet(hand, chain.ugnet);
-      if (!mp || !ug) {
-        continue;
-      }
-      const Generator g{mp, ug};
-      evaluate_chain(c, set, g, chain.label, ws, chain.table1, chain.table4, enc);
-      if (chain.robustness) {
-        evaluate_robustness(c, set, g, chain.label, ws);
+    units.push_back({s, std::nullopt, std::nullopt});
+  }
+  return units;
+}
+
+void evaluate_mpnets(const Context& c, const TestSet& set, Networks& networks,
+                     const std::string& weights) {
+  for (const MpnetSpec& m : kMpnets) {
+    if (const nn::Mpnet* net = networks.mpnet(set.hand(), m.file)) {
+      const MpeResult mpe = run_mpe(*net, set, c.options.sampling);
+      const Mean ss = run_state_stability(*net, set, c.options.sampling);
+      put(c.tables.three, m.label, weights, set.subject(),
+          {mpe.all.frames ? std::optional<double>(mpe.all.total()) : std::nullopt, ss.value()});
+    }
+  }
+  c.progress("[" + set.subject() + "] " + weights + ": MPE and SS");
+}
+
+void evaluate_unit(const Context& c, const TestSet& set, const Unit& unit) {
+  const Hand hand = set.hand();
+  if (!unit.weights) {
+    const std::optional<nn::MotionEncoder> encoder = find_encoder(c.options, hand);
+    evaluate_chain(c, set, Generator{}, kCopyPaste, "", true, true, encoder ? &*encoder : nullptr);
+    return;
+  }
+  const WeightSet& w = c.options.weights[*unit.weights];
+  Networks networks(w.dir);
+  if (!unit.chain) {
+    evaluate_mpnets(c, set, networks, w.label);
+    return;
+  }
+  const ChainSpec& chain = kChains[*unit.chain];
+  const nn::Mpnet* mp = networks.mpnet(hand, chain.mpnet);
+  const nn::Ugnet* ug = networks.ugnet(hand, chain.ugnet);
+  if (!mp || !ug) {
+    return;  // a missing file is a missing row
+  }
+  const std::optional<nn::MotionEncoder> encoder = find_encoder(c.options, hand);
+  const Generator g{mp, ug};
+  evaluate_chain(c, set, g, chain.label, w.label, chain.table1, chain.table4,
+                 encoder ? &*encoder : nullptr);
+  if (chain.robustness) {
+    evaluate_robustness(c, set, g, chain.label, w.label);
+  }
+}
+
+// A unit's rows into the whole tables: rows keep the order in which they first appear, so
+// merging the units in order gives the tables a single thread would have written.
+void merge_into(Tables& all, const Tables& part) {
+  const std::array<std::pair<Table*, const Table*>, 5> tables = {{{&all.one, &part.one},
+                                                                  {&all.two, &part.two},
+                                                                  {&all.three, &part.three},
+                                                                  {&all.four, &part.four},
+                                                                  {&all.five, &part.five}}};
+  for (const auto& [to, from] : tables) {
+    for (const TableRow& r : from->rows) {
+      for (const auto& [subject, values] : r.per_subject) {
+        row(*to, r.label, r.weights).per_subject[subject] = values;
       }
     }
   }
-  evaluate_chain(c, set, Generator{}, kCopyPaste, "", true, true, enc);
+  for (const auto& [key, samples] : part.fmd_samples) {
+    std::vector<double>& to = all.fmd_samples[key];
+    to.insert(to.end(), samples.begin(), samples.end());
+  }
+}
+
+// Every unit of every subject on options.threads threads, merged in unit order.
+void evaluate_subjects(const EvalOptions& options, const std::vector<TestSet>& sets,
+                       Tables& tables) {
+  const std::vector<Unit> units = units_of(sets.size(), options.weights.size());
+  std::vector<Tables> parts(units.size());
+  std::mutex progress_lock;
+  const int threads = options.threads > 0
+                          ? options.threads
+                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  run_units(units.size(), threads, [&](std::size_t i) {
+    const Context c{options, parts[i], progress_lock};
+    evaluate_unit(c, sets[units[i].subject], units[i]);
+  });
+  for (const Tables& part : parts) {
+    merge_into(tables, part);
+  }
 }
 
 // Table II: parameters, float32 size and the mean time per call on this machine.
@@ -436,7 +511,6 @@ Sampling quick_sampling() {
 Report evaluate(const EvalOptions& options) {
   const Clock::time_point start = Clock::now();
   Tables tables;
-  const Context c{options, tables};
   std::vector<Networks> networks;
   for (const WeightSet& w : options.weights) {
     if (!fs::is_directory(w.dir / "right") || !fs::is_directory(w.dir / "left")) {
@@ -449,10 +523,20 @@ Report evaluate(const EvalOptions& options) {
   report.data_dir = options.data_dir.string();
   report.quick = options.quick;
   const std::vector<fs::path> files = test_files(options.data_dir, options.subjects);
-  bool have_encoder = false;
+  std::vector<TestSet> sets;
   for (const fs::path& f : files) {
-    evaluate_subject(c, f, networks, report.subjects);
+    sets.push_back(TestSet::read(f));
+    const TestSet& set = sets.back();
+    report.subjects.push_back(set.subject());
+    if (options.progress) {
+      options.progress("[" + set.subject() + "] " + f.string() + ": " +
+                       std::to_string(set.sequences()) + " sequences, " +
+                       (set.hand() == Hand::kLeft ? "left" : "right") + "-handed, " +
+                       std::to_string(set.height()).substr(0, 4) + " m");
+    }
   }
+  evaluate_subjects(options, sets, tables);
+  bool have_encoder = false;
   for (const auto& [key, samples] : tables.fmd_samples) {
     have_encoder = have_encoder || !samples.empty();
   }
@@ -466,10 +550,7 @@ Report evaluate(const EvalOptions& options) {
       }
     }
   }
-  {
-    const TestSet sample = TestSet::read(files.front());
-    measure_networks(tables, options, networks, &sample);
-  }
+  measure_networks(tables, options, networks, &sets.front());
   TableRow amnet{"AMNet_DG", "", {}, {}, "not evaluated (see notes)"};
   tables.one.rows.insert(tables.one.rows.end() - 1, amnet);
   add_notes(tables, options, have_encoder);

@@ -28,6 +28,9 @@ struct EvalOptions {
   // autoencoder). Empty: looked for in each weight set's directory; none found → FMD is n/a.
   std::filesystem::path encoder_dir;
   bool quick = false;
+  // Units of work (a subject's rows of one weight set) run this many at a time; 0: one per core.
+  // The report is the same for any count (tests/eval/eval_test.cpp).
+  int threads = 0;
   Sampling sampling;
   std::string command;  // recorded in the report
   std::function<void(const std::string&)> progress;

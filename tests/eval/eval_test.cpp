@@ -261,6 +261,39 @@ TEST_F(EvalRun, QuickRunWritesWellFormedTables) {
   EXPECT_NE(notes.find("no manifest"), std::string::npos) << notes;
 }
 
+// Units of work run on several threads and are merged in order: the tables (Table II's timings
+// aside) are the same for one thread and for three, row for row and value for value.
+TEST_F(EvalRun, TheThreadCountDoesNotChangeTheTables) {
+  ScratchDir dir;
+  // The authors' MoE pair only, so the comparison runs in seconds (the other rows are missing).
+  for (const char* hand : {"right", "left"}) {
+    fs::create_directories(dir.path() / hand);
+    for (const char* file : {"MPNet(MoE)(AC)80.safetensors", "UGNet(MoE)(AC)120.safetensors"}) {
+      fs::copy_file(deixis::testing::reference_dir() / "weights" / hand / file,
+                    dir.path() / hand / file);
+    }
+  }
+  EvalOptions o = quick_options();
+  o.weights = {{"moe", dir.path()}};
+  const auto tables_of = [&](int threads) {
+    o.threads = threads;
+    nlohmann::json j = nlohmann::json::parse(json(evaluate(o)));
+    j.erase("wall_seconds");
+    for (auto& t : j["tables"]) {
+      if (t["id"] == "II") {
+        t["rows"] = nullptr;  // measured times
+      }
+    }
+    return j;
+  };
+  const nlohmann::json one = tables_of(1);
+  const nlohmann::json three = tables_of(3);
+  EXPECT_EQ(one, three);
+  // And there is something to compare: the MoE row has numbers for both subjects.
+  EXPECT_NE(one["tables"][0].dump().find("\"161\""), std::string::npos);
+  EXPECT_NE(one["tables"][0].dump().find("\"173\""), std::string::npos);
+}
+
 TEST_F(EvalRun, RefusesTrainingSubjectData) {
   ScratchDir dir;
   capture::GenerateOptions g;
