@@ -456,11 +456,6 @@ int main(int argc, char** argv) {
       "eval",
       "The paper's Tables I-IV and Fig. 5 on the held-out test subjects: MPE and SS (MPNet), "
       "DIP, DR and FMD (the chained networks), robustness to missed tracking, jitter and noise; "
-  eval_cmd->add_option("--threads", eval.threads,
-                       "Units of work (a subject's rows of one weight set) run at a time; 0: one "
-                       "per core. The tables are the same for any count")
-      ->check(CLI::Range(0, 256))
-      ->capture_default_str();
       "every architecture, the copy-paste baseline. Writes tables.md, results.json and fig5.png; "
       "progress on stderr; exit 2 for bad flags or files");
   eval_cmd->add_option("--data", eval.data_dir, "Directory with test_<subject>.safetensors")
@@ -479,6 +474,11 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("-o,--out", eval.out_dir, "Output directory")->capture_default_str();
   eval_cmd->add_option("--subjects", eval.subjects, "Only these test subjects, e.g. 161,173")
       ->delimiter(',');
+  eval_cmd->add_option("--threads", eval.threads,
+                       "Units of work (a subject's rows of one weight set) run at a time; 0: one "
+                       "per core. The tables are the same for any count")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
   eval_cmd->add_flag("--quick", eval.quick,
                      "A tiny sample (2 sequences per category and subject): seconds, for CI");
 
