@@ -9,6 +9,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/endpoint.h"
 
 namespace {
 
@@ -33,26 +34,6 @@ std::filesystem::path default_weights_dir() {
   return (source / "../shared/reference/weights").lexically_normal();
 }
 
-// "host:port" for --connect; CLI11 reports the flag when this throws.
-std::string parse_endpoint(const std::string& text, std::string& address, std::uint16_t& port_out) {
-  const std::size_t colon = text.rfind(':');
-  if (colon == std::string::npos || colon == 0 || colon + 1 == text.size()) {
-    return "expected HOST:PORT, e.g. 127.0.0.1:7350";
-  }
-  try {
-    std::size_t used = 0;
-    const int port = std::stoi(text.substr(colon + 1), &used);
-    if (used != text.size() - colon - 1 || port < 1 || port > 65535) {
-      return "the port must be 1 to 65535";
-    }
-    address = text.substr(0, colon);
-    port_out = static_cast<std::uint16_t>(port);
-  } catch (const std::exception&) {
-    return "the port must be a number";
-  }
-  return {};
-}
-
 // A HOST:PORT option (join's --connect, xr's and sim's --join) into `address` and `port`; `then`
 // runs after a valid endpoint was read.
 CLI::Option* add_endpoint_option(CLI::App* cmd, const std::string& flag, std::string& address,
@@ -61,7 +42,7 @@ CLI::Option* add_endpoint_option(CLI::App* cmd, const std::string& flag, std::st
   return cmd->add_option_function<std::string>(
       flag,
       [flag, &address, &port, then = std::move(then)](const std::string& endpoint) {
-        const std::string problem = parse_endpoint(endpoint, address, port);
+        const std::string problem = deixis::app::parse_endpoint(endpoint, address, port);
         if (!problem.empty()) {
           throw CLI::ValidationError(flag, endpoint + ": " + problem);
         }
