@@ -162,6 +162,7 @@ class Sim {
     // The remote avatar looks at the person in B's room: where B's user stands.
     b_partner_head_ =
         presence::avatar_origin(remote_->solver, a.b.user.T_world_floor()).translation;
+    find_widget_ = [this](std::string_view label) { return widget_centre(label); };
     if (o.network) {
       // The other person wears A's avatar, as the user's copy does.
       network_.emplace(SitePeerOptions{o.host ? net::Role::kHost : net::Role::kJoiner, o.address,
@@ -197,6 +198,15 @@ class Sim {
   // The other site follows the wall clock, so a networked simulator does too.
   bool fixed_step() const { return !o_.network && (o_.fixed_step || a_.input.has_value()); }
 
+  // Where scripted clicks aimed at a panel widget go: its centre in the last frame drawn.
+  std::optional<render::Vec2> widget_centre(std::string_view label) const {
+    const PanelWidgets::Item* item = widgets_.find(label);
+    if (item == nullptr) {
+      return std::nullopt;
+    }
+    return render::Vec2(0.5f * (item->x0 + item->x1), 0.5f * (item->y0 + item->y1));
+  }
+
   std::unique_ptr<RemoteSide> make_remote(const fs::path& glb) {
     auto side = std::make_unique<RemoteSide>(glb, a_.calibration, *a_.networks, a_.b);
     side->mesh = remote_view_.renderer().add_skinned_mesh(side->avatar.mesh);
@@ -209,9 +219,9 @@ class Sim {
     const SimLayout layout = sim_layout(window.width, window.height);
     local_.place(layout.local);
     remote_view_.place(layout.remote);
-    const FrameInput in = a_.input ? a_.input->next(t) : window_input_.next();
+    const FrameInput in = a_.input ? a_.input->next(t, find_widget_) : window_input_.next();
     imgui_.begin_frame(a_.input ? &in : nullptr);
-    const PanelActions actions = draw_panel(layout.panel, panel_status(t), edits_, nullptr);
+    const PanelActions actions = draw_panel(layout.panel, panel_status(t), edits_, &widgets_);
     apply(actions, t);
     if (!controls_.apply(in, !imgui_.wants_mouse(), !imgui_.wants_keyboard(), t)) {
       return false;
@@ -469,6 +479,8 @@ class Sim {
   SimHistory history_;
   std::optional<SimNetwork> network_;  // --host / --join
   PanelNetwork network_panel_;         // its state, refreshed every tick
+  PanelWidgets widgets_;               // where the last frame drew the panel's widgets
+  FindWidget find_widget_;             // widget_centre, for scripted clicks at a widget
   TrackingFrame user_frame_;
   float user_deictic_ = 0.0f;
   std::uint64_t frames_ = 0;

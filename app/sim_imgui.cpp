@@ -41,6 +41,10 @@ void ImGuiLayer::begin_frame(const FrameInput* scripted) {
       io.MouseDown[b] = scripted->down[b] || scripted->pressed[b];
     }
     io.KeyShift = scripted->shift;
+    // Typed as the GLFW backend's character callback types a person's keys.
+    for (const char c : scripted->text) {
+      io.AddInputCharacter(static_cast<unsigned int>(c));
+    }
   }
   ImGui::NewFrame();
 }

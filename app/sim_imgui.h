@@ -1,8 +1,8 @@
 #pragma once
 // Dear ImGui on the simulator's window, with Debian's libimgui backends used as they are
 // (GLFW for input, OpenGL 3 for drawing). One per window; needs its GL context current.
-// Scripted input (--input) replaces the backend's mouse state for the frame, so a scripted run
-// clicks the panel exactly as a person would.
+// Scripted input (--input) replaces the backend's mouse state for the frame and types its text
+// into the panel, so a scripted run clicks and fills the panel exactly as a person would.
 
 #include "app/sim_input.h"
 
@@ -18,7 +18,7 @@ class ImGuiLayer {
   ImGuiLayer(const ImGuiLayer&) = delete;
   ImGuiLayer& operator=(const ImGuiLayer&) = delete;
 
-  // Begins a frame; `scripted`, when given, is the mouse the UI sees.
+  // Begins a frame; `scripted`, when given, is the mouse the UI sees and the text it is typed.
   void begin_frame(const FrameInput* scripted);
   // Draws what the frame built over the current framebuffer (the window's back buffer).
   void render();

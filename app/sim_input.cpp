@@ -83,6 +83,33 @@ InputEvent button(double t, InputEvent::Kind kind, Button b, bool shift) {
   return e;
 }
 
+// A click aimed at a panel widget ("widget": its label) rather than at x and y.
+InputEvent move_to_widget(double t, const JsonReader& r, const json& j, const std::string& path) {
+  if (j.contains("x") || j.contains("y")) {
+    r.fail(path + ".widget", "give either a widget or x and y, not both");
+  }
+  InputEvent e = event(t, InputEvent::Kind::kMove);
+  e.widget = r.string(j["widget"], path + ".widget");
+  if (e.widget.empty()) {
+    r.fail(path + ".widget", "expected a widget's label, e.g. \"Start\"");
+  }
+  return e;
+}
+
+// What a text event types: printable ASCII, which ImGui's default font draws.
+std::string read_text(const JsonReader& r, const json& j, const std::string& path) {
+  std::string text = r.string(r.member(j, path, "text"), path + ".text");
+  if (text.empty()) {
+    r.fail(path + ".text", "expected at least one character");
+  }
+  for (const char c : text) {
+    if (c < ' ' || c > '~') {
+      r.fail(path + ".text", "only printable ASCII characters can be typed");
+    }
+  }
+  return text;
+}
+
 // One entry of "events", expanded into the events it stands for.
 void parse_event(const JsonReader& r, const json& j, const std::string& path,
                  std::vector<InputEvent>& out) {
@@ -110,10 +137,11 @@ void parse_event(const JsonReader& r, const json& j, const std::string& path,
     e.key = key[0];
     out.push_back(e);
   } else if (type == "click") {
-    r.only_fields(j, path, {"t", "type", "x", "y", "button", "shift"});
+    r.only_fields(j, path, {"t", "type", "x", "y", "widget", "button", "shift"});
     const Button b = read_button(r, j, path);
     const bool shift = read_shift(r, j, path);
-    out.push_back(move(t, read_xy(r, j, path)));
+    out.push_back(j.contains("widget") ? move_to_widget(t, r, j, path)
+                                       : move(t, read_xy(r, j, path)));
     out.push_back(button(t, InputEvent::Kind::kPress, b, shift));
     out.push_back(button(t + kClickHold, InputEvent::Kind::kRelease, b, shift));
   } else if (type == "drag") {
@@ -132,10 +160,25 @@ void parse_event(const JsonReader& r, const json& j, const std::string& path,
       out.push_back(move(t + seconds * k / steps, from + s * (to - from)));
     }
     out.push_back(button(t + seconds + kDragStep, InputEvent::Kind::kRelease, b, shift));
+  } else if (type == "text") {
+    r.only_fields(j, path, {"t", "type", "text"});
+    InputEvent e = event(t, InputEvent::Kind::kText);
+    e.text = read_text(r, j, path);
+    out.push_back(e);
   } else {
     r.fail(path + ".type",
-           "unknown type '" + type + "' (expected move, press, release, key, click or drag)");
+           "unknown type '" + type + "' (expected move, press, release, key, click, drag or text)");
   }
+}
+
+// Where a click aimed at a widget goes: its centre in the frame before.
+render::Vec2 widget_centre(const InputEvent& e, const FindWidget& find) {
+  const std::optional<render::Vec2> at = find ? find(e.widget) : std::nullopt;
+  if (!at) {
+    throw Error("scripted input: the click at " + std::to_string(e.time) +
+                " s aims at the panel widget '" + e.widget + "', which the panel does not show");
+  }
+  return *at;
 }
 
 }  // namespace
@@ -185,16 +228,23 @@ std::vector<InputEvent> read_input_script(const std::filesystem::path& path) {
   return parse_input_script(text.str(), path.string());
 }
 
-FrameInput ScriptedInput::next(double t) {
+FrameInput ScriptedInput::next(double t, const FindWidget& find) {
   state_.pressed = {};
   state_.released = {};
   state_.key_count = 0;
+  state_.text = {};
   for (; next_ < events_.size() && events_[next_].time <= t; ++next_) {
     const InputEvent& e = events_[next_];
     const auto b = static_cast<std::size_t>(e.button);
     switch (e.kind) {
       case InputEvent::Kind::kMove:
-        state_.pointer = e.position;
+        state_.pointer = e.widget.empty() ? e.position : widget_centre(e, find);
+        break;
+      case InputEvent::Kind::kText:
+        if (!state_.text.empty()) {
+          return state_;  // one text a frame; the next is typed in the next frame
+        }
+        state_.text = e.text;
         break;
       case InputEvent::Kind::kPress:
         state_.down[b] = true;

@@ -1,10 +1,12 @@
 // The simulator's pieces that need no window: what a mouse ray hits and where a drag goes, the
-// scripted input file (its errors name the field) played into frames, the live virtual user
-// pointing and touching on command, and the panel's rings.
+// scripted input file (its errors name the field) played into frames — clicks aimed at panel
+// widgets, text typed into the panel — the live virtual user pointing and touching on command,
+// and the panel's rings.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 #include "app/sim_history.h"
 #include "app/sim_input.h"
@@ -83,6 +85,16 @@ TEST(SimInputTest, BadFilesAreRefusedNamingTheField) {
   EXPECT_NE(error_of(script(R"({"t": 1, "type": "move", "x": 1, "y": 2, "z": 3})"))
                 .find("unknown field 'z'"),
             std::string::npos);
+  EXPECT_NE(error_of(script(R"({"t": 1, "type": "click", "widget": "Start", "x": 1, "y": 2})"))
+                .find("events[0].widget: give either a widget or x and y"),
+            std::string::npos);
+  EXPECT_NE(error_of(script(R"({"t": 1, "type": "click", "widget": ""})")).find("events[0].widget"),
+            std::string::npos);
+  EXPECT_NE(error_of(script(R"({"t": 1, "type": "text", "text": ""})")).find("events[0].text"),
+            std::string::npos);
+  EXPECT_NE(error_of(script(R"({"t": 1, "type": "text", "text": "tab\there"})"))
+                .find("events[0].text: only printable ASCII"),
+            std::string::npos);
 }
 
 TEST(SimInputTest, ClicksAndDragsPlayAsAPersonWouldMakeThem) {
@@ -116,6 +128,37 @@ TEST(SimInputTest, ClicksAndDragsPlayAsAPersonWouldMakeThem) {
   EXPECT_TRUE(f.was_released(Button::kLeft));
   EXPECT_TRUE(f.pointer.isApprox(Vec2(110, 20)));
   EXPECT_TRUE(input.finished());
+}
+
+TEST(SimInputTest, ClicksAimAtPanelWidgetsAndTextIsTypedAFrameAtATime) {
+  const auto events = parse_input_script(script(R"({"t": 0.5, "type": "click", "widget": "Start"},
+                {"t": 1.0, "type": "text", "text": "10.0.0.2:7350"},
+                {"t": 1.0, "type": "text", "text": "blue whale"},
+                {"t": 2.0, "type": "click", "widget": "Leave"})"),
+                                         "in.json");
+  const FindWidget panel = [](std::string_view label) -> std::optional<Vec2> {
+    if (label == "Start") {
+      return Vec2(900, 600);
+    }
+    return std::nullopt;  // no Leave: no session runs
+  };
+  ScriptedInput input(events);
+  FrameInput f = input.next(0.5, panel);
+  EXPECT_TRUE(f.pointer.isApprox(Vec2(900, 600)));  // at the widget's centre, pressed there
+  EXPECT_TRUE(f.was_pressed(Button::kLeft));
+  EXPECT_TRUE(f.text.empty());
+  f = input.next(1.0, panel);  // one text a frame: the second waits for the next
+  EXPECT_EQ(f.text, "10.0.0.2:7350");
+  f = input.next(1.0, panel);
+  EXPECT_EQ(f.text, "blue whale");
+  f = input.next(1.1, panel);
+  EXPECT_TRUE(f.text.empty());
+  try {
+    input.next(2.0, panel);
+    ADD_FAILURE() << "a click at a widget the panel does not show was played";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("panel widget 'Leave'"), std::string::npos) << e.what();
+  }
 }
 
 float angle(const Vec3& a, const Vec3& b) {
