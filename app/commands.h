@@ -155,7 +155,7 @@ struct SimOptions {
   std::filesystem::path weights_dir;
   std::filesystem::path avatar;      // the avatar in B (.glb); empty: site B's
   bool script = false;               // the user performs site A's virtual_user script
-  std::filesystem::path input;       // scripted mouse and key events (JSON); implies fixed_step
+  std::filesystem::path input;       // scripted events (JSON); fixed steps until a session starts
   bool fixed_step = false;           // every frame advances the simulator by one 30 Hz tick
   std::uint64_t frames = 0;          // quit after this many frames (0: no limit)
   double seconds = 0.0;              // quit after this much simulator time (0: no limit)

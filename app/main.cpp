@@ -385,7 +385,8 @@ int main(int argc, char** argv) {
                     "The user performs site A's virtual_user script (hands-free)");
   sim_cmd
       ->add_option("--input", sim.input,
-                   "Scripted mouse and key events (JSON, docs/sim.md); implies --fixed-step")
+                   "Scripted mouse, key and text events (JSON, docs/sim.md); one tick per frame "
+                   "until a session starts from the panel")
       ->check(CLI::ExistingFile);
   CLI::Option* fixed_step = sim_cmd->add_flag(
       "--fixed-step", sim.fixed_step,

@@ -3,9 +3,10 @@
 // pose; on the right the remote room (site B) with the avatar presence::RemoteAvatar translates
 // the user's tracking into, at 30 Hz; below, the ImGui panel. The mouse and keys drive the user
 // (or the site's script does) and move B's objects; the avatar adapts on the next tick.
-// With --host / --join the simulator is site A of a real session (app/sim_network.h): the user
-// streams to the other site, whose person stands in the left view where A's remote avatar does;
-// the right view keeps the local translation into B as a preview.
+// With --host / --join, or from the panel's network form, the simulator is site A of a real
+// session (app/sim_network.h): the user streams to the other site, whose person stands in the
+// left view where A's remote avatar does; the right view keeps the local translation into B as a
+// preview.
 
 #include <chrono>
 #include <cstdio>
@@ -25,7 +26,9 @@
 #include "app/sim_history.h"
 #include "app/sim_imgui.h"
 #include "app/sim_network.h"
+#include "app/sim_network_form.h"
 #include "app/sim_panel.h"
+#include "app/sim_time.h"
 #include "app/sim_user.h"
 #include "app/sim_views.h"
 #include "avatar/avatar_loader.h"
@@ -42,11 +45,15 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-constexpr double kTick = 1.0 / 30.0;         // s: tracking and translation (DESIGN §3)
+constexpr double kTick = SimTime::kTick;     // s: tracking and translation (DESIGN §3)
 constexpr double kScriptMinSeconds = 300.0;  // a --script user's performance, at least
 constexpr float kRayShownAbove = 0.5f;       // deictic progression above which rays show
 constexpr int kMaxTicksPerFrame = 5;         // a stalled frame does not snowball
 constexpr std::uint64_t kDefaultSeed = 1;
+// Start's tooltip in a --fixed-step run (decision 50).
+constexpr std::string_view kNoSessionWhenFixed =
+    "--fixed-step: one tick per frame, but a session runs on the wall clock (the other site's). "
+    "Run without --fixed-step to start one.";
 
 double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -81,7 +88,8 @@ struct SimAssets {
   avatar::Avatar user_avatar;
   std::optional<ik::AvatarSolver> user_solver;
   std::optional<MoeNetworks> networks;                      // the user's hand: the preview in B
-  std::optional<std::array<MoeNetworks, 2>> peer_networks;  // networked: by the other's hand
+  std::optional<std::array<MoeNetworks, 2>> peer_networks;  // by the other's hand; none when
+                                                            // no session can start (--fixed-step)
   std::unique_ptr<SimUser> user;                            // null with --script
   std::optional<capture::ScriptPerformance> script;
   std::optional<ScriptedInput> input;
@@ -118,7 +126,7 @@ SimAssets load_assets(const SimOptions& o) {
     s.calibration = s.user->calibration();
   }
   s.networks.emplace(load_moe_networks(o.weights_dir, s.calibration.deictic_hand));
-  if (o.network) {
+  if (!o.fixed_step) {  // the flags' session, or one the panel may start
     s.peer_networks.emplace(
         std::array<MoeNetworks, 2>{load_moe_networks(o.weights_dir, Hand::kLeft),
                                    load_moe_networks(o.weights_dir, Hand::kRight)});
@@ -154,7 +162,8 @@ class Sim {
         user_mesh_(local_.renderer().add_skinned_mesh(a.user_avatar.mesh)),
         controls_(local_, remote_view_, a.a.target_map, remote_map_, a.user.get()),
         imgui_(window.glfw_window()),
-        window_input_(window.glfw_window()) {
+        window_input_(window.glfw_window()),
+        time_(fixed_step()) {
     remote_ = make_remote(a.remote_avatar_path);
     const fs::path& glb = a.remote_avatar_path;
     std::snprintf(edits_.avatar_path.data(), edits_.avatar_path.size(), "%s",
@@ -162,26 +171,21 @@ class Sim {
     // The remote avatar looks at the person in B's room: where B's user stands.
     b_partner_head_ =
         presence::avatar_origin(remote_->solver, a.b.user.T_world_floor()).translation;
+    edits_.network = initial_network_form(o);
     find_widget_ = [this](std::string_view label) { return widget_centre(label); };
     if (o.network) {
-      // The other person wears A's avatar, as the user's copy does.
-      network_.emplace(SitePeerOptions{o.host ? net::Role::kHost : net::Role::kJoiner, o.address,
-                                       o.port, o.passphrase, o.wait},
-                       a.a, a.calibration, *a.peer_networks, *a.user_solver);
-      network_panel_ = network_->panel();
+      start_network(SitePeerOptions{o.host ? net::Role::kHost : net::Role::kJoiner, o.address,
+                                    o.port, o.passphrase, o.wait});
     }
   }
 
   int run() {
-    const Clock::time_point start = Clock::now();
-    const bool fixed = fixed_step();
     for (std::uint64_t frame = 0;; ++frame) {
       const Clock::time_point frame_start = Clock::now();
       window_.poll_events();
-      const double t = fixed ? static_cast<double>(frame) * kTick
-                             : std::chrono::duration<double>(Clock::now() - start).count();
+      const double t = time_.next_frame();
       const bool last = (o_.frames > 0 && frame + 1 >= o_.frames) ||
-                        (o_.seconds > 0.0 && t + (fixed ? kTick : 0.0) >= o_.seconds);
+                        (o_.seconds > 0.0 && t + (time_.fixed() ? kTick : 0.0) >= o_.seconds);
       if (!step(t, last)) {
         break;
       }
@@ -195,8 +199,34 @@ class Sim {
   }
 
  private:
-  // The other site follows the wall clock, so a networked simulator does too.
+  // The other site follows the wall clock, so a networked simulator does too (a session started
+  // from the panel switches time_ to it).
   bool fixed_step() const { return !o_.network && (o_.fixed_step || a_.input.has_value()); }
+
+  // A session, from the flags or the panel's form: the same SitePeer start, which never blocks
+  // (a host binds, a joiner sends its first packet; connecting is polled tick by tick). The
+  // other person wears A's avatar, as the user's copy does.
+  void start_network(const SitePeerOptions& options) {
+    network_.reset();  // the last session, failed or left
+    form_problem_.clear();
+    network_.emplace(options, a_.a, a_.calibration, *a_.peer_networks, *a_.user_solver);
+    network_panel_ = network_->panel();
+    time_.follow_wall_clock();
+  }
+
+  void start_from_form() {
+    const FormSession session = form_session(edits_.network);
+    if (!session.options) {
+      form_problem_ = session.problem;
+      return;
+    }
+    start_network(*session.options);
+  }
+
+  void leave_network() {
+    network_->close();
+    network_panel_ = network_->panel();
+  }
 
   // Where scripted clicks aimed at a panel widget go: its centre in the last frame drawn.
   std::optional<render::Vec2> widget_centre(std::string_view label) const {
@@ -252,6 +282,8 @@ class Sim {
     s.seconds = t;
     s.ticks = ticks_;
     s.network = network_ ? &network_panel_ : nullptr;
+    s.start_disabled = a_.peer_networks ? std::string_view() : kNoSessionWhenFixed;
+    s.form_problem = form_problem_;
     return s;
   }
 
@@ -277,6 +309,12 @@ class Sim {
     if (actions.load_avatar) {
       const std::string text = edits_.avatar_path.data();
       load_avatar(text.empty() ? a_.b.avatar_path : fs::path(text));
+    }
+    if (actions.start_network && a_.peer_networks) {
+      start_from_form();
+    }
+    if (actions.leave_network && network_) {
+      leave_network();
     }
   }
 
@@ -362,6 +400,8 @@ class Sim {
   }
 
   int finish() {
+    // What the session was at the end, before the bye ends it (its avatar still visible).
+    const nlohmann::json network = network_json();
     if (network_) {
       network_->close();
     }
@@ -410,7 +450,7 @@ class Sim {
           {"fingertip", {tip.x(), tip.y(), tip.z()}},
           {"glb", remote_->path.string()}}},
         {"status", controls_.status()},
-        {"network", network_json()},
+        {"network", network},
         {"timings_ms",
          {{"translation_ik", quantiles(history_.tick_ms)},
           {"render", quantiles(history_.render_ms)},
@@ -424,7 +464,7 @@ class Sim {
     return code;
   }
 
-  // The session's summary; 1 when it failed (the error on stderr), else 0.
+  // The last session's summary; 1 when it failed (its error went to stderr then), else 0.
   int print_network() const {
     if (!network_) {
       return 0;
@@ -436,11 +476,7 @@ class Sim {
         n.peer_site.c_str(), static_cast<unsigned long long>(n.sent),
         static_cast<unsigned long long>(n.played), static_cast<unsigned long long>(n.missed),
         static_cast<unsigned long long>(n.visible_ticks));
-    if (network_->error().empty()) {
-      return 0;
-    }
-    std::fprintf(stderr, "deixis sim: %s\n", network_->error().c_str());
-    return 1;
+    return network_->error().empty() ? 0 : 1;
   }
 
   nlohmann::json network_json() const {
@@ -477,10 +513,12 @@ class Sim {
   PanelEdits edits_;
   std::string avatar_note_;
   SimHistory history_;
-  std::optional<SimNetwork> network_;  // --host / --join
+  std::optional<SimNetwork> network_;  // the last session (--host / --join, or the panel's)
   PanelNetwork network_panel_;         // its state, refreshed every tick
+  std::string form_problem_;           // what the last Start found wrong in the form
   PanelWidgets widgets_;               // where the last frame drew the panel's widgets
   FindWidget find_widget_;             // widget_centre, for scripted clicks at a widget
+  SimTime time_;                       // fixed steps when scripted, else (or once networked) wall
   TrackingFrame user_frame_;
   float user_deictic_ = 0.0f;
   std::uint64_t frames_ = 0;

@@ -23,10 +23,18 @@ SimNetwork::SimNetwork(const SitePeerOptions& options, const SiteConfig& site,
 }
 
 void SimNetwork::fail(const char* what) {
-  // The window stays: the panel shows why, and the run exits 1 at its end.
+  // The window stays: the panel shows why, and the run exits 1 at its end unless the person
+  // starts another session that takes this one's place. Said at once on stderr too, so a failed
+  // attempt is on record after a later one succeeded.
   error_ = what;
+  std::fprintf(stderr, "deixis sim: %s\n", what);
+  std::fflush(stderr);
+  end_session();
+}
+
+void SimNetwork::end_session() {
   if (peer_) {
-    stats_ = peer_->stats();
+    stats_ = peer_->stats();  // shown and reported after the end
     peer_.reset();
   }
 }
@@ -65,7 +73,9 @@ PanelNetwork SimNetwork::panel() const {
   p.sent = s.sent;
   p.played = s.played;
   p.failed = !error_.empty();
+  p.running = running();
   p.state = p.failed                      ? std::string_view(error_)
+            : left_                       ? std::string_view("left the session")
             : peer_ && peer_->streaming() ? std::string_view("streaming")
                                           : std::string_view("waiting for the other site");
   return p;
@@ -74,6 +84,8 @@ PanelNetwork SimNetwork::panel() const {
 void SimNetwork::close() {
   if (peer_) {
     peer_->close(clock_.now());
+    left_ = true;
+    end_session();
   }
 }
 

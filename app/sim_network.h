@@ -1,9 +1,11 @@
 #pragma once
-// The simulator on the network (`deixis sim --host` / `--join`, docs/sim.md): the virtual user is
-// this site's user, streamed through a SitePeer every tick with the targets they selected; the
-// other site's person comes back as a translated avatar in this room (site A). A failure —
-// refused, nobody within --wait, a port that cannot be bound — must not take the window down:
-// it is kept as the state the panel shows and the run ends with exit 1 when the person closes it.
+// The simulator on the network (`deixis sim --host` / `--join`, or the panel's Start; docs/sim.md):
+// the virtual user is this site's user, streamed through a SitePeer every tick with the targets
+// they selected; the other site's person comes back as a translated avatar in this room (site A).
+// One SimNetwork is one session, started from the flags or from the panel alike. A failure —
+// refused, nobody within --wait, a port that cannot be bound — must not take the window down: it
+// is kept as the state the panel shows (with the form to try again), and the run ends with exit 1
+// when the person closes it unless a later session took its place.
 
 #include <array>
 #include <optional>
@@ -31,17 +33,21 @@ class SimNetwork {
   // it on the wall clock, so ticks a slow frame catches up on are not sent bunched together.
   void tick(const TrackingFrame& user, const LocalTargets& room, double sim_seconds);
 
-  // The other person's avatar to draw in this room; null while hidden or after a failure.
+  // Whether the session is on: false once it failed or was left.
+  bool running() const { return peer_.has_value(); }
+  // The other person's avatar to draw in this room; null while hidden or once not running.
   const presence::RemoteAvatar* visible_avatar() const;
   const SitePeerStats& stats() const;
   const std::string& error() const { return error_; }
   // The panel's network section.
   PanelNetwork panel() const;
-  // Says bye to the other site (at the end of the run).
+  // Says bye to the other site and ends the session (the person left, or the run ends). Waits
+  // at most 0.5 s for ENet to deliver the bye, as `deixis host` does.
   void close();
 
  private:
   void fail(const char* what);
+  void end_session();
 
   SitePeerOptions options_;
   std::uint16_t port_ = 0;  // the host's bound port, or the host's a joiner joins
@@ -51,6 +57,7 @@ class SimNetwork {
   std::optional<SitePeer> peer_;
   SitePeerStats stats_;  // the peer's, kept after a failure
   std::string error_;
+  bool left_ = false;  // closed by the person (or the run's end), not failed
 };
 
 }  // namespace deixis::app

@@ -5,28 +5,17 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "app/sim_panel_parts.h"
+
 namespace deixis::app {
 
 namespace {
 
+using panel::button;
+using panel::note;
+
 constexpr float kPlotHeight = 34.0f;
 constexpr float kPlotLabelWidth = 90.0f;  // px beside each plot for its name
-
-// Remembers where the last widget was drawn under `label`.
-void note(PanelWidgets* widgets, std::string_view label) {
-  if (widgets == nullptr || widgets->count == widgets->items.size()) {
-    return;
-  }
-  const ImVec2 lo = ImGui::GetItemRectMin();
-  const ImVec2 hi = ImGui::GetItemRectMax();
-  widgets->items[widgets->count++] = {label, lo.x, lo.y, hi.x, hi.y};
-}
-
-bool button(const char* label, PanelWidgets* widgets) {
-  const bool clicked = ImGui::Button(label);
-  note(widgets, label);
-  return clicked;
-}
 
 void plot(const char* label, const Ring& ring, float lo, float hi, const char* unit,
           PanelWidgets* widgets) {
@@ -108,37 +97,6 @@ void timings(const SimHistory& h, PanelWidgets* widgets) {
   plot("frame", h.frame_ms, 0.0f, 50.0f, " ms", widgets);
 }
 
-// Local, or the session with the other site: who this site is, where, whether a passphrase
-// guards it, who came and what flows; a failure in red (the run then exits 1).
-void network(const PanelStatus& s, PanelWidgets* widgets) {
-  if (s.network == nullptr) {
-    ImGui::TextWrapped("Network: local (both sites in this process; --host or --join)");
-    note(widgets, "network");
-    return;
-  }
-  const PanelNetwork& n = *s.network;
-  ImGui::TextWrapped("Network: %.*s %.*s:%u, passphrase %s", static_cast<int>(n.role.size()),
-                     n.role.data(), static_cast<int>(n.address.size()), n.address.data(), n.port,
-                     n.passphrase ? "set" : "none");
-  note(widgets, "network");
-  ImGui::TextWrapped("site %.*s: tracking sent %llu, frames played %llu",
-                     static_cast<int>(n.peer_site.size()), n.peer_site.data(),
-                     static_cast<unsigned long long>(n.sent),
-                     static_cast<unsigned long long>(n.played));
-  note(widgets, "network counts");
-  if (n.failed) {
-    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));
-  }
-  ImGui::TextWrapped("%.*s", static_cast<int>(n.state.size()), n.state.data());
-  note(widgets, "network state");
-  if (n.failed) {
-    ImGui::PopStyleColor();
-  }
-  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-  ImGui::TextWrapped("Left: their person in room A. Right: room B translated here (a preview).");
-  ImGui::PopStyleColor();
-}
-
 void avatar_choice(const PanelStatus& s, PanelEdits& edits, PanelActions& a,
                    PanelWidgets* widgets) {
   ImGui::Text("Avatar in B: %.*s", static_cast<int>(s.avatar.size()), s.avatar.data());
@@ -155,6 +113,21 @@ void avatar_choice(const PanelStatus& s, PanelEdits& edits, PanelActions& a,
 }
 
 }  // namespace
+
+void panel::note(PanelWidgets* widgets, std::string_view label) {
+  if (widgets == nullptr || widgets->count == widgets->items.size()) {
+    return;
+  }
+  const ImVec2 lo = ImGui::GetItemRectMin();
+  const ImVec2 hi = ImGui::GetItemRectMax();
+  widgets->items[widgets->count++] = {label, lo.x, lo.y, hi.x, hi.y};
+}
+
+bool panel::button(const char* label, PanelWidgets* widgets) {
+  const bool clicked = ImGui::Button(label);
+  note(widgets, label);
+  return clicked;
+}
 
 const PanelWidgets::Item* PanelWidgets::find(std::string_view label) const {
   for (std::size_t i = 0; i < count; ++i) {
@@ -185,11 +158,12 @@ PanelActions draw_panel(const ViewRect& rect, const PanelStatus& s, PanelEdits& 
     progressions(*s.history, widgets);
     ImGui::TableNextColumn();
     user_controls(s, edits, a, widgets);
-    ImGui::TableNextColumn();
-    timings(*s.history, widgets);
-    ImGui::Separator();
-    network(s, widgets);
     avatar_choice(s, edits, a, widgets);
+    ImGui::TableNextColumn();
+    // The network first: its form must stay in view when the window is small.
+    panel::network_section(s, edits.network, a, widgets);
+    ImGui::Separator();
+    timings(*s.history, widgets);
     ImGui::EndTable();
   }
   ImGui::End();

@@ -1,16 +1,17 @@
 #pragma once
 // The simulator's Dear ImGui panel (docs/sim.md): live plots of the remote avatar's three
 // progressions (MPNet) and blend weights, per-tick timings, the virtual user's commands and
-// status, the network state (local, or host / join with the session's state) and the avatar
-// choice. Drawing it reports what the person clicked
-// (PanelActions) and where each widget was (PanelWidgets: the smoke test checks they are there,
-// scripted input can aim at them). Needs an ImGui frame begun; allocates nothing of its own.
+// status, the network (a form to host or join a session, or the session's state) and the avatar
+// choice. Drawing it reports what the person clicked (PanelActions) and where each widget was
+// (PanelWidgets: the smoke test checks they are there, scripted input aims at them). Needs an
+// ImGui frame begun; allocates nothing of its own.
 
 #include <array>
 #include <span>
 #include <string_view>
 
 #include "app/sim_history.h"
+#include "app/sim_network_form.h"
 #include "app/sim_views.h"
 
 namespace deixis::app {
@@ -26,6 +27,7 @@ struct PanelNetwork {
   std::uint64_t played = 0;  // the other person's frames played into their avatar
   std::string_view state;    // "waiting for the other site", "streaming", or the error
   bool failed = false;
+  bool running = false;  // false once it failed or was left: the form is shown again
 };
 
 // What the panel shows, read-only.
@@ -35,7 +37,9 @@ struct PanelStatus {
   bool avatar_visible = false;
   std::span<const TargetObject> local_objects;  // the user's room, for point/touch buttons
   std::string_view status;                      // the last command's outcome
-  const PanelNetwork* network = nullptr;        // null: both sites in this process
+  const PanelNetwork* network = nullptr;        // the last session; null: none was started
+  std::string_view start_disabled;              // why Start is off (--fixed-step); empty: on
+  std::string_view form_problem;                // what the last Start found wrong in the form
   std::string_view avatar;                      // the remote avatar's .glb
   std::string_view avatar_note;                 // the last avatar load's error, if any
   double seconds = 0.0;                         // simulator time
@@ -46,6 +50,7 @@ struct PanelStatus {
 struct PanelEdits {
   std::array<char, 512> avatar_path{};
   TargetId selected = 1;  // the object the Point and Touch buttons act on
+  NetworkForm network;    // host or join, address or port, passphrase
 };
 
 struct PanelActions {
@@ -55,7 +60,9 @@ struct PanelActions {
   bool explain = false;
   bool rest = false;
   bool reset_objects = false;
-  bool load_avatar = false;  // from PanelEdits::avatar_path (empty: the default avatar)
+  bool load_avatar = false;    // from PanelEdits::avatar_path (empty: the default avatar)
+  bool start_network = false;  // the session PanelEdits::network asks for
+  bool leave_network = false;  // says bye and ends the session
 };
 
 struct PanelWidgets {

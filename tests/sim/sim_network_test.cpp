@@ -5,7 +5,10 @@
 // the screenshot), and its report counts what it sent and played. The other way round, it hosts
 // a `deixis join`, with a passphrase. A wrong passphrase ends with exit 1 naming the refusal —
 // and no avatar in room A, which is also the pixel check's control; so does a host nobody joins
-// within --wait. Bad network flags exit 2 naming them.
+// within --wait. Bad network flags exit 2 naming them. The same sessions started from the panel
+// instead of the flags: scripted input clicks the form's widgets and types into its fields
+// through ImGui, as a person would; a wrong passphrase typed there is refused, and a second
+// Start with the right one streams.
 
 #include <gtest/gtest.h>
 
@@ -80,7 +83,50 @@ class SimNetworkTest : public ::testing::Test {
             "--screenshot",
             shot().string()};
   }
+  // The simulator at site A with its scripted user and no network flags; `input` drives the
+  // panel.
+  std::vector<std::string> panel_sim(const fs::path& input, const std::string& seconds) const {
+    return {"sim",           "--input",
+            input.string(),  "--script",
+            "--seconds",     seconds,
+            "--weights-dir", weights_dir(),
+            "--width",       std::to_string(kWidth),
+            "--height",      std::to_string(kHeight),
+            "--wait",        "10",
+            "--report",      report().string(),
+            "--screenshot",  shot().string()};
+  }
+  // A scripted input file of `events` (deixis-sim-input).
+  fs::path input_file(const json& events) const {
+    const fs::path path = dir_.path() / "panel.json";
+    std::ofstream(path) << json{{"format", "deixis-sim-input"}, {"version", 1}, {"events", events}};
+    return path;
+  }
   fs::path report() const { return dir_.path() / "report.json"; }
+
+  // The simulator `a` hosts (it prints its port); `deixis join` at site B connects and streams
+  // 5 s with the passphrase "blue whale". Each site played the other's person.
+  void expect_a_joiner_streams_with(Deixis& a) const {
+    const int port = a.port();
+    ASSERT_GT(port, 0) << a.out() << a.err();
+    Deixis b({"join", "--site", site("b.json").string(), "--connect",
+              "127.0.0.1:" + std::to_string(port), "--passphrase", "blue whale", "--no-video",
+              "--weights-dir", weights_dir(), "--out", (dir_.path() / "B").string(), "--seconds",
+              "5"});
+    ASSERT_EQ(b.wait(), 0) << b.err();
+    ASSERT_EQ(a.wait(), 0) << a.out() << a.err();
+    const json s = read_json(dir_.path() / "B/session.json");
+    EXPECT_EQ(s["peer_site"], "A");
+    EXPECT_TRUE(s["network"]["sealed"].get<bool>());
+    EXPECT_GT(s["network"]["frames_played"].get<int>(), 100);
+    const json n = read_json(report())["network"];
+    EXPECT_EQ(n["role"], "host");
+    EXPECT_EQ(n["port"].get<int>(), port);
+    EXPECT_EQ(n["peer_site"], "B");
+    EXPECT_EQ(n["error"], "");
+    EXPECT_GT(n["played"].get<int>(), 100);
+    EXPECT_GT(n["visible_ticks"].get<int>(), 100);
+  }
   fs::path shot() const { return dir_.path() / "shot.png"; }
 
   // Pixels of the default avatar's dark blue shirt around the chest of whoever stands where
@@ -152,25 +198,7 @@ TEST_F(SimNetworkTest, TheSimulatorHostsAndAJoinerStreamsWithIt) {
             "--script", "--seconds", "10", "--weights-dir", weights_dir(), "--width",
             std::to_string(kWidth), "--height", std::to_string(kHeight), "--report",
             report().string()});
-  const int port = a.port();
-  ASSERT_GT(port, 0) << a.out() << a.err();
-  Deixis b({"join", "--site", site("b.json").string(), "--connect",
-            "127.0.0.1:" + std::to_string(port), "--passphrase", "blue whale", "--no-video",
-            "--weights-dir", weights_dir(), "--out", (dir_.path() / "B").string(), "--seconds",
-            "5"});
-  ASSERT_EQ(b.wait(), 0) << b.err();
-  ASSERT_EQ(a.wait(), 0) << a.out() << a.err();
-  const json s = read_json(dir_.path() / "B/session.json");
-  EXPECT_EQ(s["peer_site"], "A");
-  EXPECT_TRUE(s["network"]["sealed"].get<bool>());
-  EXPECT_GT(s["network"]["frames_played"].get<int>(), 100);
-  const json n = read_json(report())["network"];
-  EXPECT_EQ(n["role"], "host");
-  EXPECT_EQ(n["port"].get<int>(), port);
-  EXPECT_EQ(n["peer_site"], "B");
-  EXPECT_EQ(n["error"], "");
-  EXPECT_GT(n["played"].get<int>(), 100);
-  EXPECT_GT(n["visible_ticks"].get<int>(), 100);
+  expect_a_joiner_streams_with(a);
 }
 
 TEST_F(SimNetworkTest, AWrongPassphraseIsShownAndEndsWithExitOne) {
@@ -201,6 +229,99 @@ TEST_F(SimNetworkTest, AHostNobodyJoinsSaysSoAndEndsWithExitOne) {
   EXPECT_EQ(n["port"].get<int>(), port);  // the bound port stays shown after the failure
   EXPECT_EQ(n["state"], n["error"]);
   EXPECT_EQ(n["sent"].get<int>(), 0);
+}
+
+// Scripted input aimed at a panel widget, and text typed into the field that has the keyboard.
+json click(double t, const char* widget) {
+  return {{"t", t}, {"type", "click"}, {"widget", widget}};
+}
+json type(double t, const std::string& text) {
+  return {{"t", t}, {"type", "text"}, {"text", text}};
+}
+
+// From `t`: chooses Join, types the host's address over the default and the passphrase, presses
+// Start at t + 1.3 s.
+json join_from_panel(double t, int port, const std::string& passphrase) {
+  return {click(t, "Join"),
+          click(t + 0.3, "join address"),
+          type(t + 0.6, "127.0.0.1:" + std::to_string(port)),
+          click(t + 0.8, "passphrase"),
+          type(t + 1.1, passphrase),
+          click(t + 1.3, "Start")};
+}
+
+TEST_F(SimNetworkTest, TheSimulatorJoinsAHostFromItsPanel) {
+  Deixis b(host("14") + std::vector<std::string>{"--passphrase", "blue whale"});
+  const int port = b.port();
+  ASSERT_GT(port, 0) << b.err();
+  Deixis a(panel_sim(input_file(join_from_panel(0.3, port, "blue whale")), "9"));
+  ASSERT_EQ(a.wait(), 0) << a.out() << a.err();
+  ASSERT_EQ(b.wait(), 0) << b.err();
+  EXPECT_NE(a.out().find("network: site B"), std::string::npos) << a.out();
+
+  // Site B received A's person; the simulator streamed from about 1.6 s to 9 s.
+  const json s = read_json(dir_.path() / "B/session.json");
+  EXPECT_EQ(s["peer_site"], "A");
+  EXPECT_TRUE(s["network"]["sealed"].get<bool>());  // the passphrase typed in the panel
+  EXPECT_GT(s["network"]["frames_played"].get<int>(), 100);
+  const json n = read_json(report())["network"];
+  std::printf("deixis sim, joined from the panel: %s\n", n.dump().c_str());
+  EXPECT_EQ(n["role"], "join");
+  EXPECT_EQ(n["port"].get<int>(), port);
+  EXPECT_EQ(n["peer_site"], "B");
+  EXPECT_EQ(n["state"], "streaming");
+  EXPECT_EQ(n["error"], "");
+  EXPECT_GT(n["sent"].get<int>(), 120);
+  EXPECT_GT(n["played"].get<int>(), 120);
+  EXPECT_TRUE(n["visible"].get<bool>());
+  EXPECT_GE(shirt_at_a_remote_avatar(), 40) << "no avatar where A's remote avatar stands";
+}
+
+TEST_F(SimNetworkTest, AWrongPassphraseTypedInThePanelIsRefused) {
+  Deixis b(host("5") + std::vector<std::string>{"--passphrase", "blue whale", "--wait", "5"});
+  const int port = b.port();
+  ASSERT_GT(port, 0) << b.err();
+  Deixis a(panel_sim(input_file(join_from_panel(0.3, port, "green whale")), "4"));
+  EXPECT_EQ(a.wait(), 1) << a.out() << a.err();
+  EXPECT_NE(a.err().find("refused this site: wrong passphrase"), std::string::npos) << a.err();
+  b.wait();
+  const json n = read_json(report())["network"];
+  EXPECT_EQ(n["role"], "join");
+  EXPECT_NE(n["error"].get<std::string>().find("wrong passphrase"), std::string::npos) << n;
+  EXPECT_EQ(n["state"], n["error"]);
+  EXPECT_EQ(n["visible_ticks"].get<int>(), 0);
+  EXPECT_EQ(shirt_at_a_remote_avatar(), 0);
+}
+
+TEST_F(SimNetworkTest, AfterARefusalTheRightPassphraseStreams) {
+  // Refused at about 1.6 s; the form is back, the right passphrase typed over the wrong one and
+  // Start pressed again at 3.5 s. The host waits for a joiner that gets in.
+  Deixis b(host("10") + std::vector<std::string>{"--passphrase", "blue whale", "--wait", "20"});
+  const int port = b.port();
+  ASSERT_GT(port, 0) << b.err();
+  json events = join_from_panel(0.3, port, "green whale");
+  for (const json& e : {click(3.0, "passphrase"), type(3.3, "blue whale"), click(3.5, "Start")}) {
+    events.push_back(e);
+  }
+  Deixis a(panel_sim(input_file(events), "9"));
+  ASSERT_EQ(a.wait(), 0) << a.out() << a.err();  // the last session streamed
+  EXPECT_NE(a.err().find("refused this site: wrong passphrase"), std::string::npos) << a.err();
+  ASSERT_EQ(b.wait(), 0) << b.err();
+  EXPECT_GT(read_json(dir_.path() / "B/session.json")["network"]["frames_played"].get<int>(), 60);
+  const json n = read_json(report())["network"];
+  EXPECT_EQ(n["state"], "streaming");
+  EXPECT_EQ(n["error"], "");
+  EXPECT_GT(n["played"].get<int>(), 60);
+  EXPECT_TRUE(n["visible"].get<bool>());
+}
+
+TEST_F(SimNetworkTest, TheSimulatorHostsFromItsPanel) {
+  // Host, port 0 typed over the default: the simulator prints the port it bound, as with --host.
+  const json events = {click(0.3, "Host"),       click(0.6, "host port"), type(0.9, "0"),
+                       click(1.1, "passphrase"), type(1.4, "blue whale"), click(1.6, "Start")};
+  Deixis a(panel_sim(input_file(events), "12"));
+  EXPECT_NE(a.port(), 7350) << "the port typed in the panel did not replace the default";
+  expect_a_joiner_streams_with(a);
 }
 
 TEST_F(SimNetworkTest, BadNetworkFlagsExitTwoNamingThem) {
