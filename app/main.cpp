@@ -456,9 +456,10 @@ int main(int argc, char** argv) {
   eval_cmd->add_option("-o,--out", eval.out_dir, "Output directory")->capture_default_str();
   eval_cmd->add_option("--subjects", eval.subjects, "Only these test subjects, e.g. 161,173")
       ->delimiter(',');
-  eval_cmd->add_option("--threads", eval.threads,
-                       "Units of work (a subject's rows of one weight set) run at a time; 0: one "
-                       "per core. The tables are the same for any count")
+  eval_cmd
+      ->add_option("--threads", eval.threads,
+                   "Units of work (a subject's rows of one weight set) run at a time; 0: one "
+                   "per core. The tables are the same for any count")
       ->check(CLI::Range(0, 256))
       ->capture_default_str();
   eval_cmd->add_flag("--quick", eval.quick,
