@@ -3,6 +3,7 @@
 
 #include "gesture/train/models.h"
 
+#include <ATen/CPUGeneratorImpl.h>
 #include <torch/nn/functional.h>
 #include <torch/nn/init.h>
 #include <torch/nn/modules.h>
@@ -17,6 +18,7 @@
 #include "gesture/train/forward.h"
 #include "gesture/train/fused_experts.h"
 #include "gesture/train/fused_gru.h"
+#include "gesture/train/fused_transformer.h"
 
 namespace deixis::train {
 
@@ -126,7 +128,10 @@ torch::nn::TransformerEncoder make_encoder(int d_model, int feed_forward) {
                                            4));
 }
 
-// MPNet Transformer (model.py MPNet_Transformer).
+// MPNet Transformer (model.py MPNet_Transformer). The encoder module holds the parameters (the
+// authors' names and layouts); its maths runs as one fused autograd node per layer
+// (fused_transformer.h says why), with dropout keyed by the global generator, which the trainer
+// seeds per batch.
 class MpnetTransformer : public MpnetNetwork {
  public:
   MpnetTransformer()
@@ -135,7 +140,7 @@ class MpnetTransformer : public MpnetNetwork {
         out_(register_module("linear_output", torch::nn::Linear(16, 3))) {}
   torch::Tensor preclamp(const torch::Tensor& window) override {
     const torch::Tensor tokens = in_(window).transpose(0, 1);  // [30, batch, 16]
-    return out_(encoder_->forward(tokens).select(0, -1));
+    return out_(encoder_last_token(encoder_, tokens, at::detail::getDefaultCPUGenerator()));
   }
 
  private:
