@@ -82,8 +82,8 @@ struct Dims {
   Eigen::Index rows() const { return time * batch; }             // every token
   Eigen::Index query_rows() const { return queries() * batch; }  // tokens with an output
   Eigen::Index query_offset() const { return first_query * batch; }
-  // The four dropout masks, packed: attention weights, attention output, feed-forward hidden,
-  // feed-forward output.
+  // The four dropout masks, packed: attention weights [queries][time][heads·batch], attention
+  // output, feed-forward hidden, feed-forward output ([query rows][width] each).
   Eigen::Index attention_size() const { return batch * heads * queries() * time; }
   Eigen::Index mask_size() const {
     return attention_size() + query_rows() * d + query_rows() * ff + query_rows() * d;
@@ -131,7 +131,7 @@ void layer_norm(const Eigen::Ref<const RowMatrix>& x, const ConstVector& gamma,
   y = (x_hat.array().rowwise() * gamma.array()).rowwise() + beta.array();
 }
 
-// Backward of layer_norm: adds ∂L/∂γ, ∂L/∂β and returns ∂L/∂x in dx.
+// Backward of layer_norm: writes ∂L/∂γ, ∂L/∂β, and ∂L/∂x into dx.
 // ∂L/∂x = rstd · (g − mean(g) − x̂ · mean(g ⊙ x̂)) with g = dy ⊙ γ.
 void layer_norm_backward(const Eigen::Ref<const RowMatrix>& dy, const ConstMatrixMap& x_hat,
                          const float* rstd, const ConstVector& gamma, Vector d_gamma, Vector d_beta,
@@ -149,167 +149,168 @@ void layer_norm_backward(const Eigen::Ref<const RowMatrix>& dy, const ConstMatri
 
 // ---- attention ----
 //
-// Per (batch item, head) the blocks are tiny (30 × 30 scores, head_dim 4), too small for GEMM
-// calls and slow as strided Eigen expressions. They are copied into contiguous buffers with the
-// keys and values transposed ([head_dim, time]), so that every loop below runs along the keys
-// over contiguous memory, which the compiler vectorises.
+// Per (batch item, head) the blocks are tiny (30 × 30 scores, head_dim 4): too small for GEMM
+// calls, and rows of 30 are not a multiple of the vector width. So the attention runs on all
+// (head, batch item) pairs at once, with that pair index innermost ([token][channel][head·batch],
+// 64 floats for MPNet): every loop below is then an element-wise pass over contiguous pairs,
+// which the compiler vectorises fully, with no reductions along the vector.
 
-// One (batch item, head)'s queries [queries, head_dim], keys and values [head_dim, time].
-struct HeadBuffers {
-  std::vector<float> q, k_t, v_t;
-  explicit HeadBuffers(const Dims& s)
-      : q(static_cast<std::size_t>(s.queries() * s.head_dim)),
-        k_t(static_cast<std::size_t>(s.head_dim * s.time)),
-        v_t(static_cast<std::size_t>(s.head_dim * s.time)) {}
-  void zero() {
-    std::fill(q.begin(), q.end(), 0.0f);
-    std::fill(k_t.begin(), k_t.end(), 0.0f);
-    std::fill(v_t.begin(), v_t.end(), 0.0f);
-  }
+// Queries [queries][head_dim][pairs], keys and values [time][head_dim][pairs], pair = h·batch + b.
+struct HeadMajor {
+  std::vector<float> q, k, v;
+  explicit HeadMajor(const Dims& s)
+      : q(static_cast<std::size_t>(s.queries() * s.d * s.batch)),
+        k(static_cast<std::size_t>(s.time * s.d * s.batch)),
+        v(static_cast<std::size_t>(s.time * s.d * s.batch)) {}
 };
 
-// Where element c of token t's query (part 0), key (1) or value (2) of (b, h) sits in qkv
-// [time·batch, 3d].
-inline Eigen::Index qkv_index(const Dims& s, Eigen::Index part, Eigen::Index t, Eigen::Index b,
-                              Eigen::Index h, Eigen::Index c) {
-  return (t * s.batch + b) * 3 * s.d + part * s.d + h * s.head_dim + c;
-}
-
-void gather_head(const Dims& s, const float* qkv, Eigen::Index b, Eigen::Index h,
-                 HeadBuffers& out) {
-  const Eigen::Index hd = s.head_dim;
-  for (Eigen::Index i = 0; i < s.queries(); ++i) {
-    for (Eigen::Index c = 0; c < hd; ++c) {
-      out.q[static_cast<std::size_t>(i * hd + c)] =
-          qkv[qkv_index(s, 0, s.first_query + i, b, h, c)];
-    }
-  }
-  for (Eigen::Index t = 0; t < s.time; ++t) {
-    for (Eigen::Index c = 0; c < hd; ++c) {
-      out.k_t[static_cast<std::size_t>(c * s.time + t)] = qkv[qkv_index(s, 1, t, b, h, c)];
-      out.v_t[static_cast<std::size_t>(c * s.time + t)] = qkv[qkv_index(s, 2, t, b, h, c)];
+// Token t's channel c of part (0 query, 1 key, 2 value) in qkv [time·batch, 3d] → in the
+// head-major buffer, for every head and batch item. Also used for ∂L/∂a [query rows, d] with
+// parts = 1.
+void to_head_major(const Dims& s, const float* rows, Eigen::Index width, Eigen::Index part,
+                   Eigen::Index first, Eigen::Index count, float* out) {
+  const Eigen::Index pairs = s.heads * s.batch;
+  for (Eigen::Index t = 0; t < count; ++t) {
+    for (Eigen::Index b = 0; b < s.batch; ++b) {
+      const float* row = rows + ((first + t) * s.batch + b) * width + part * s.d;
+      for (Eigen::Index h = 0; h < s.heads; ++h) {
+        for (Eigen::Index c = 0; c < s.head_dim; ++c) {
+          out[(t * s.head_dim + c) * pairs + h * s.batch + b] = row[h * s.head_dim + c];
+        }
+      }
     }
   }
 }
 
-// The gradient counterpart of gather_head: adds the buffers into d_qkv.
-void scatter_head(const Dims& s, const HeadBuffers& in, Eigen::Index b, Eigen::Index h,
-                  float* d_qkv) {
-  const Eigen::Index hd = s.head_dim;
-  for (Eigen::Index i = 0; i < s.queries(); ++i) {
-    for (Eigen::Index c = 0; c < hd; ++c) {
-      d_qkv[qkv_index(s, 0, s.first_query + i, b, h, c)] +=
-          in.q[static_cast<std::size_t>(i * hd + c)];
+// The inverse of to_head_major (writes; every element of the block is written once).
+void from_head_major(const Dims& s, const float* in, Eigen::Index width, Eigen::Index part,
+                     Eigen::Index first, Eigen::Index count, float* rows) {
+  const Eigen::Index pairs = s.heads * s.batch;
+  for (Eigen::Index t = 0; t < count; ++t) {
+    for (Eigen::Index b = 0; b < s.batch; ++b) {
+      float* row = rows + ((first + t) * s.batch + b) * width + part * s.d;
+      for (Eigen::Index h = 0; h < s.heads; ++h) {
+        for (Eigen::Index c = 0; c < s.head_dim; ++c) {
+          row[h * s.head_dim + c] = in[(t * s.head_dim + c) * pairs + h * s.batch + b];
+        }
+      }
     }
   }
-  for (Eigen::Index t = 0; t < s.time; ++t) {
-    for (Eigen::Index c = 0; c < hd; ++c) {
-      d_qkv[qkv_index(s, 1, t, b, h, c)] += in.k_t[static_cast<std::size_t>(c * s.time + t)];
-      d_qkv[qkv_index(s, 2, t, b, h, c)] += in.v_t[static_cast<std::size_t>(c * s.time + t)];
-    }
+}
+
+HeadMajor gather_heads(const Dims& s, const float* qkv) {
+  HeadMajor m(s);
+  to_head_major(s, qkv, 3 * s.d, 0, s.first_query, s.queries(), m.q.data());
+  to_head_major(s, qkv, 3 * s.d, 1, 0, s.time, m.k.data());
+  to_head_major(s, qkv, 3 * s.d, 2, 0, s.time, m.v.data());
+  return m;
+}
+
+// y ← y + a ⊙ b, element-wise over n.
+inline void add_product(const float* a, const float* b, float* y, Eigen::Index n) {
+  for (Eigen::Index x = 0; x < n; ++x) {
+    y[x] += a[x] * b[x];
   }
 }
 
-inline void axpy(float alpha, const float* x, float* y, Eigen::Index n) {
-  for (Eigen::Index j = 0; j < n; ++j) {
-    y[j] += alpha * x[j];
+// Query i's P ⊙ mask [time][pairs] into scratch, or P itself without a mask.
+const float* dropped(const float* p, const float* mask, Eigen::Index n,
+                     std::vector<float>& scratch) {
+  if (mask == nullptr) {
+    return p;
   }
+  for (Eigen::Index x = 0; x < n; ++x) {
+    scratch[static_cast<std::size_t>(x)] = p[x] * mask[x];
+  }
+  return scratch.data();
 }
 
-// Eigen's, because a plain loop's float sum is not vectorised (the order of the additions would
-// change).
-inline float dot(const float* x, const float* y, Eigen::Index n) {
-  return Eigen::Map<const Eigen::VectorXf>(x, n).dot(Eigen::Map<const Eigen::VectorXf>(y, n));
-}
-
-// For every (batch item, head): P = softmax(Q·Kᵀ / √head_dim) over the keys (kept, before
-// dropout), and the heads' outputs (P ⊙ mask)·V into a [query rows, d].
+// P = softmax(Q·Kᵀ / √head_dim) over the keys, kept before dropout in probabilities
+// [queries][time][pairs], and the heads' outputs (P ⊙ mask)·V into a [query rows, d].
 void attention_forward(const Dims& s, const float* qkv, const float* mask, float* probabilities,
                        float* a) {
   const float scale = 1.0f / std::sqrt(static_cast<float>(s.head_dim));
-  const Eigen::Index n = s.time, hd = s.head_dim, nq = s.queries();
-  HeadBuffers head(s);
-  RowMatrix dropped(nq, n);
-  Eigen::VectorXf row_values(nq);
-  for (Eigen::Index b = 0; b < s.batch; ++b) {
-    for (Eigen::Index h = 0; h < s.heads; ++h) {
-      gather_head(s, qkv, b, h, head);
-      const Eigen::Index block = (b * s.heads + h) * nq * n;
-      MatrixMap p(probabilities + block, nq, n);
-      p.setZero();
-      for (Eigen::Index i = 0; i < nq; ++i) {
-        for (Eigen::Index c = 0; c < hd; ++c) {
-          axpy(head.q[static_cast<std::size_t>(i * hd + c)] * scale,
-               &head.k_t[static_cast<std::size_t>(c * n)], &p(i, 0), n);
-        }
+  const Eigen::Index n = s.time, hd = s.head_dim, pairs = s.heads * s.batch, block = n * pairs;
+  const HeadMajor in = gather_heads(s, qkv);
+  std::vector<float> out(static_cast<std::size_t>(s.queries() * hd * pairs));
+  std::vector<float> scratch(static_cast<std::size_t>(block));
+  Eigen::ArrayXf extreme(pairs), sum(pairs);
+  for (Eigen::Index i = 0; i < s.queries(); ++i) {
+    float* p = probabilities + i * block;
+    std::fill(p, p + block, 0.0f);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      for (Eigen::Index c = 0; c < hd; ++c) {
+        add_product(&in.q[static_cast<std::size_t>((i * hd + c) * pairs)],
+                    &in.k[static_cast<std::size_t>((j * hd + c) * pairs)], p + j * pairs, pairs);
       }
-      // The softmax over each row, the exp over the whole contiguous block (vectorised).
-      row_values = p.rowwise().maxCoeff();
-      p.colwise() -= row_values;
-      p.array() = p.array().exp();
-      row_values = p.rowwise().sum().cwiseInverse();
-      p.array().colwise() *= row_values.array();
-      const float* kept = p.data();
-      if (mask != nullptr) {
-        dropped.array() = p.array() * ConstMatrixMap(mask + block, nq, n).array();
-        kept = dropped.data();
-      }
-      for (Eigen::Index i = 0; i < nq; ++i) {
-        float* out = a + (i * s.batch + b) * s.d + h * hd;
-        for (Eigen::Index c = 0; c < hd; ++c) {
-          out[c] = dot(kept + i * n, &head.v_t[static_cast<std::size_t>(c * n)], n);
-        }
+    }
+    // Softmax over the keys j, for every pair at once.
+    Eigen::Map<Eigen::ArrayXXf> scores(p, pairs, n);  // column j: key j
+    scores *= scale;
+    extreme = scores.rowwise().maxCoeff();
+    scores.colwise() -= extreme;
+    scores = scores.exp();
+    sum = scores.rowwise().sum().inverse();
+    scores.colwise() *= sum;
+    const float* kept = dropped(p, mask == nullptr ? nullptr : mask + i * block, block, scratch);
+    for (Eigen::Index c = 0; c < hd; ++c) {
+      float* o = &out[static_cast<std::size_t>((i * hd + c) * pairs)];
+      for (Eigen::Index j = 0; j < n; ++j) {
+        add_product(kept + j * pairs, &in.v[static_cast<std::size_t>((j * hd + c) * pairs)], o,
+                    pairs);
       }
     }
   }
+  from_head_major(s, out.data(), s.d, 0, 0, s.queries(), a);
 }
 
-// Backward of attention_forward: ∂L/∂(q, k, v) into d_qkv (zeroed by the caller) from ∂L/∂a.
+// Backward of attention_forward: ∂L/∂(q, k, v) into d_qkv [time·batch, 3d] from ∂L/∂a (rows of
+// tokens before the first query keep a zero query gradient: d_qkv is zeroed by the caller).
 void attention_backward(const Dims& s, const float* qkv, const float* mask,
                         const float* probabilities, const float* da, float* d_qkv) {
   const float scale = 1.0f / std::sqrt(static_cast<float>(s.head_dim));
-  const Eigen::Index n = s.time, hd = s.head_dim, nq = s.queries();
-  HeadBuffers head(s), grad(s);
-  RowMatrix dropped(nq, n), dp(nq, n);
-  Eigen::VectorXf row_values(nq);
-  for (Eigen::Index b = 0; b < s.batch; ++b) {
-    for (Eigen::Index h = 0; h < s.heads; ++h) {
-      gather_head(s, qkv, b, h, head);
-      grad.zero();
-      const Eigen::Index block = (b * s.heads + h) * nq * n;
-      const ConstMatrixMap p(probabilities + block, nq, n);
-      const float* kept = p.data();
-      if (mask != nullptr) {
-        dropped.array() = p.array() * ConstMatrixMap(mask + block, nq, n).array();
-        kept = dropped.data();
+  const Eigen::Index n = s.time, hd = s.head_dim, pairs = s.heads * s.batch, block = n * pairs;
+  const HeadMajor in = gather_heads(s, qkv);
+  HeadMajor grad(s);  // zero-initialised
+  std::vector<float> d_out(static_cast<std::size_t>(s.queries() * hd * pairs));
+  to_head_major(s, da, s.d, 0, 0, s.queries(), d_out.data());
+  std::vector<float> scratch(static_cast<std::size_t>(block)), dp(static_cast<std::size_t>(block));
+  Eigen::ArrayXf p_dp(pairs);
+  for (Eigen::Index i = 0; i < s.queries(); ++i) {
+    const float* p = probabilities + i * block;
+    const float* m = mask == nullptr ? nullptr : mask + i * block;
+    const float* kept = dropped(p, m, block, scratch);
+    // out = P̃·V with P̃ = P ⊙ mask: ∂V += P̃ᵀ·∂out, ∂P = (∂out·Vᵀ) ⊙ mask.
+    std::fill(dp.begin(), dp.end(), 0.0f);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      for (Eigen::Index c = 0; c < hd; ++c) {
+        const float* g = &d_out[static_cast<std::size_t>((i * hd + c) * pairs)];
+        const auto jc = static_cast<std::size_t>((j * hd + c) * pairs);
+        add_product(kept + j * pairs, g, &grad.v[jc], pairs);
+        add_product(g, &in.v[jc], &dp[static_cast<std::size_t>(j * pairs)], pairs);
       }
-      // out = P̃·V with P̃ = P ⊙ mask: ∂V += P̃ᵀ·∂out, ∂P = (∂out·Vᵀ) ⊙ mask.
-      dp.setZero();
-      for (Eigen::Index i = 0; i < nq; ++i) {
-        const float* d_out = da + (i * s.batch + b) * s.d + h * hd;
-        for (Eigen::Index c = 0; c < hd; ++c) {
-          const auto k = static_cast<std::size_t>(c * n);
-          axpy(d_out[c], kept + i * n, &grad.v_t[k], n);
-          axpy(d_out[c], &head.v_t[k], &dp(i, 0), n);
-        }
+    }
+    Eigen::Map<Eigen::ArrayXXf> d_p(dp.data(), pairs, n);
+    const Eigen::Map<const Eigen::ArrayXXf> probability(p, pairs, n);
+    if (m != nullptr) {
+      d_p *= Eigen::Map<const Eigen::ArrayXXf>(m, pairs, n);
+    }
+    // Softmax: ∂scores = P ⊙ (∂P − Σ_j P ⊙ ∂P); scores = scale · Q·Kᵀ.
+    p_dp = (probability * d_p).rowwise().sum();
+    d_p = scale * probability * (d_p.colwise() - p_dp);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      for (Eigen::Index c = 0; c < hd; ++c) {
+        const auto ic = static_cast<std::size_t>((i * hd + c) * pairs);
+        const auto jc = static_cast<std::size_t>((j * hd + c) * pairs);
+        const float* ds = &dp[static_cast<std::size_t>(j * pairs)];
+        add_product(ds, &in.k[jc], &grad.q[ic], pairs);
+        add_product(ds, &in.q[ic], &grad.k[jc], pairs);
       }
-      if (mask != nullptr) {
-        dp.array() *= ConstMatrixMap(mask + block, nq, n).array();
-      }
-      // Softmax: ∂scores = P ⊙ (∂P − rowsum(P ⊙ ∂P)); scores = scale · Q·Kᵀ.
-      row_values = (p.array() * dp.array()).rowwise().sum();
-      dp.array() = scale * p.array() * (dp.colwise() - row_values).array();
-      for (Eigen::Index i = 0; i < nq; ++i) {
-        for (Eigen::Index c = 0; c < hd; ++c) {
-          const auto k = static_cast<std::size_t>(c * n);
-          const auto q = static_cast<std::size_t>(i * hd + c);
-          grad.q[q] = dot(&dp(i, 0), &head.k_t[k], n);
-          axpy(head.q[q], &dp(i, 0), &grad.k_t[k], n);
-        }
-      }
-      scatter_head(s, grad, b, h, d_qkv);
     }
   }
+  from_head_major(s, grad.q.data(), 3 * s.d, 0, s.first_query, s.queries(), d_qkv);
+  from_head_major(s, grad.k.data(), 3 * s.d, 1, 0, s.time, d_qkv);
+  from_head_major(s, grad.v.data(), 3 * s.d, 2, 0, s.time, d_qkv);
 }
 
 // ---- the layer ----
@@ -426,7 +427,8 @@ struct EncoderLayerFunction : public torch::autograd::Function<EncoderLayerFunct
         dims_of(x, v[kW1], ctx->saved_data["heads"].toInt(), ctx->saved_data["last_only"].toBool());
     const Eigen::Index rows = s.rows(), nq = s.query_rows(), d = s.d, ff = s.ff;
     const Masks m(v[kMasks], s);
-    const torch::Tensor g = grad_outputs[0].contiguous();
+    const torch::Tensor g = grad_outputs[0].defined() ? grad_outputs[0].contiguous()
+                                                      : torch::zeros({nq, d}, x.options());
 
     torch::Tensor d_gamma2 = torch::empty({d}, x.options()), d_beta2 = torch::empty_like(d_gamma2);
     RowMatrix d_residual(nq, d);

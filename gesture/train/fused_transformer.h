@@ -47,8 +47,8 @@ torch::Tensor encoder_layer(const torch::Tensor& tokens, const EncoderLayerWeigh
                             const EncoderLayerOptions& options);
 
 // The masks a layer with options.seed = key draws (exposed for tests): count values, each 0 with
-// probability p and 1/(1 − p) otherwise. A layer packs them as the attention weights [batch, heads,
-// queries, time], then the attention output [queries, batch, d], the feed-forward hidden units
+// probability p and 1/(1 − p) otherwise. A layer packs them as the attention weights [queries,
+// time, heads, batch], then the attention output [queries, batch, d], the feed-forward hidden units
 // [queries, batch, ff] and the feed-forward output [queries, batch, d].
 torch::Tensor dropout_masks(std::int64_t count, std::uint64_t key, double p);
 

@@ -140,7 +140,7 @@ torch::Tensor reference_layer(const torch::Tensor& x, const EncoderLayerWeights&
   const std::int64_t queries = time - first_query;
   const std::int64_t attention = batch * heads * queries * time, rows = queries * batch;
   const torch::Tensor m_attention =
-      masks.slice(0, 0, attention).view({batch, heads, queries, time});
+      masks.slice(0, 0, attention).view({queries, time, heads, batch}).permute({3, 2, 0, 1});
   const torch::Tensor m_out =
       masks.slice(0, attention, attention + rows * d).view({queries, batch, d});
   const torch::Tensor m_hidden =
