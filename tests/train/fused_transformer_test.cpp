@@ -2,7 +2,8 @@
 // same outputs and the same gradients for the tokens and every parameter, without dropout (p = 0
 // in training mode, and eval mode), at the MPNet Transformer's sizes and at other ones. With
 // dropout they are the libtorch composition of the layer with the same masks, the masks drop
-// their rate, and the training generator alone decides them.
+// their rate, the training generator alone decides them, and over many draws the outputs are
+// distributed as libtorch's encoder's with its own dropout.
 
 #include "gesture/train/fused_transformer.h"
 
@@ -262,6 +263,39 @@ TEST(FusedTransformer, TrainingDropoutFollowsTheGenerator) {
   EXPECT_TRUE(torch::equal(first, again));
   EXPECT_GT((first - other).abs().max().item<double>(), 1e-3);
   EXPECT_GT((first - eval).abs().max().item<double>(), 1e-3);
+}
+
+// Dropout as libtorch's in distribution: over many draws the mean output of the fused encoder
+// and of libtorch's (its own masks from torch's RNG) agree within 5 standard errors of their
+// difference, and so does the spread.
+TEST(FusedTransformer, DropoutMatchesLibtorchInDistribution) {
+  const Sizes s{6, 3, 8, 2, 12, 2};
+  torch::manual_seed(41);
+  torch::nn::TransformerEncoder encoder = make_encoder(s, 0.1);
+  randomise(*encoder);
+  const torch::Tensor tokens = torch::randn({s.time, s.batch, s.d});
+  torch::NoGradGuard no_grad;
+  constexpr int kDraws = 4000;
+  torch::Tensor sum_ours = torch::zeros({s.batch, s.d}), sum_theirs = torch::zeros_like(sum_ours);
+  torch::Tensor square_ours = torch::zeros_like(sum_ours),
+                square_theirs = torch::zeros_like(sum_ours);
+  at::Generator generator = at::detail::createCPUGenerator(3);
+  for (int i = 0; i < kDraws; ++i) {
+    const torch::Tensor ours = encoder_last_token(encoder, tokens, generator);
+    const torch::Tensor theirs = encoder->forward(tokens).select(0, -1);
+    sum_ours += ours;
+    square_ours += ours * ours;
+    sum_theirs += theirs;
+    square_theirs += theirs * theirs;
+  }
+  const torch::Tensor mean_ours = sum_ours / kDraws, mean_theirs = sum_theirs / kDraws;
+  const torch::Tensor var_ours = square_ours / kDraws - mean_ours * mean_ours;
+  const torch::Tensor var_theirs = square_theirs / kDraws - mean_theirs * mean_theirs;
+  EXPECT_GT(var_theirs.min().item<double>(), 1e-4);  // dropout does change the output
+  const torch::Tensor z = (mean_ours - mean_theirs) / ((var_ours + var_theirs) / kDraws).sqrt();
+  EXPECT_LT(z.abs().max().item<double>(), 5.0);
+  const double spread = (var_ours.sqrt().mean() / var_theirs.sqrt().mean()).item<double>();
+  EXPECT_NEAR(spread, 1.0, 0.05);
 }
 
 }  // namespace
