@@ -9,10 +9,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// "0.41 cm, 1.06°"; a figure the trainer could not measure is written as null (NaN).
 std::string errors_of(const nlohmann::json& e) {
+  const nlohmann::json& cm = e.at("position_cm");
+  const nlohmann::json& deg = e.at("rotation_deg");
+  if (cm.is_null() || deg.is_null()) {
+    return "(not measured)";
+  }
   char text[80];
-  std::snprintf(text, sizeof text, "%.2f cm, %.2f°", e.at("position_cm").get<double>(),
-                e.at("rotation_deg").get<double>());
+  std::snprintf(text, sizeof text, "%.2f cm, %.2f°", cm.get<double>(), deg.get<double>());
   return text;
 }
 
@@ -40,9 +45,12 @@ std::string describe_encoder(const fs::path& encoder_weights, const std::string&
     if (!found->at("validation").is_null()) {
       line += ", " + errors_of(found->at("validation")) + " on the validation subjects";
     }
-    return line + " (paper, right hand: 0.38 cm, 0.97° and 1.29 cm, 3.90°; " +
-           std::to_string(manifest.value("schedule", nlohmann::json::object()).value("epochs", 0)) +
-           " epochs).";
+    line += " (paper, right hand: 0.38 cm, 0.97° and 1.29 cm, 3.90°)";
+    const int epochs = manifest.value("schedule", nlohmann::json::object()).value("epochs", 0);
+    if (epochs > 0) {
+      line += "; " + std::to_string(epochs) + " epochs";
+    }
+    return line + ".";
   } catch (const nlohmann::json::exception& e) {
     return line + manifest_path.string() + ": not a deixis-train manifest (" + e.what() + ").";
   }

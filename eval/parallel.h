@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -37,8 +38,12 @@ void run_units(std::size_t count, int threads, const Work& work) {
   };
   const auto helpers = static_cast<std::size_t>(std::max(threads, 1)) - 1;
   std::vector<std::thread> pool;
-  for (std::size_t t = 0; t < std::min(helpers, count); ++t) {
-    pool.emplace_back(worker);
+  try {
+    for (std::size_t t = 0; t < std::min(helpers, count); ++t) {
+      pool.emplace_back(worker);
+    }
+  } catch (const std::system_error&) {
+    // No more threads to be had: the ones started and this one do the work.
   }
   worker();  // the calling thread works too
   for (std::thread& t : pool) {

@@ -38,6 +38,19 @@ TEST(EncoderReport, TheManifestsReconstructionErrorsAreQuoted) {
   EXPECT_NE(line.find("600 epochs"), std::string::npos) << line;
 }
 
+TEST(EncoderReport, AFigureTheTrainerCouldNotMeasureIsSaidSo) {
+  deixis::testing::ScratchDir dir;
+  const fs::path weights = encoder_with_manifest(dir.path(), R"({"reconstruction": {
+      "training": {"position_cm": null, "rotation_deg": null, "segments": 10},
+      "validation": null}})");
+  const std::string line = describe_encoder(weights, "right");
+  EXPECT_NE(line.find("reconstruction per frame (not measured) on the training subject"),
+            std::string::npos)
+      << line;
+  EXPECT_EQ(line.find("not a deixis-train manifest"), std::string::npos) << line;
+  EXPECT_EQ(line.find("epochs"), std::string::npos) << line;  // no schedule in this manifest
+}
+
 TEST(EncoderReport, NoValidationSubjectsLeavesThemOut) {
   deixis::testing::ScratchDir dir;
   const fs::path weights = encoder_with_manifest(dir.path(), R"({"reconstruction": {

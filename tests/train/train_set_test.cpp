@@ -153,7 +153,10 @@ TEST(TrainSet, AFailingRunFailsTheCommandAndShowsWhy) {
   EXPECT_EQ(failed.exit_code, 1) << failed.output;
   EXPECT_NE(failed.output.find("[ugnet-moe-right] FAILED (exit 2)"), std::string::npos)
       << failed.output;
-  EXPECT_NE(failed.output.find("--epochs"), std::string::npos) << failed.output;
+  // The end of the run's log, shown under its name: deixis-train's own refusal of --epochs 0.
+  EXPECT_NE(failed.output.find("[ugnet-moe-right]   --epochs: Value 0 not in range"),
+            std::string::npos)
+      << failed.output;
   EXPECT_FALSE(fs::exists(scratch.path() / "train/weights/right/MPNet(MoE)(AC)0.safetensors"));
 }
 
