@@ -51,6 +51,20 @@ void randomise(torch::nn::Module& module) {
   }
 }
 
+// A randomised encoder with dropout 0.1 and tokens to run it on, both drawn after seeding torch.
+struct DropoutCase {
+  torch::nn::TransformerEncoder encoder{nullptr};
+  torch::Tensor tokens;
+};
+
+DropoutCase dropout_case(const Sizes& s, std::uint64_t seed) {
+  torch::manual_seed(seed);
+  DropoutCase c{make_encoder(s, 0.1), {}};
+  randomise(*c.encoder);
+  c.tokens = torch::randn({s.time, s.batch, s.d});
+  return c;
+}
+
 void copy_parameters(torch::nn::Module& from, torch::nn::Module& to) {
   torch::NoGradGuard no_grad;
   auto source = from.named_parameters();
@@ -247,10 +261,7 @@ TEST(FusedTransformer, DropoutMasksDropTheirRate) {
 // seed another, and both differ from eval mode's; in the model, dropped elements are ≈ p.
 TEST(FusedTransformer, TrainingDropoutFollowsTheGenerator) {
   const Sizes s{30, 16, 16, 4, 16, 4};
-  torch::manual_seed(31);
-  torch::nn::TransformerEncoder encoder = make_encoder(s, 0.1);
-  randomise(*encoder);
-  const torch::Tensor tokens = torch::randn({s.time, s.batch, s.d});
+  auto [encoder, tokens] = dropout_case(s, 31);
   torch::NoGradGuard no_grad;
   const torch::Tensor first =
       encoder_last_token(encoder, tokens, at::detail::createCPUGenerator(7));
@@ -270,10 +281,7 @@ TEST(FusedTransformer, TrainingDropoutFollowsTheGenerator) {
 // difference, and so does the spread.
 TEST(FusedTransformer, DropoutMatchesLibtorchInDistribution) {
   const Sizes s{6, 3, 8, 2, 12, 2};
-  torch::manual_seed(41);
-  torch::nn::TransformerEncoder encoder = make_encoder(s, 0.1);
-  randomise(*encoder);
-  const torch::Tensor tokens = torch::randn({s.time, s.batch, s.d});
+  auto [encoder, tokens] = dropout_case(s, 41);
   torch::NoGradGuard no_grad;
   constexpr int kDraws = 4000;
   torch::Tensor sum_ours = torch::zeros({s.batch, s.d}), sum_theirs = torch::zeros_like(sum_ours);

@@ -64,14 +64,20 @@ class TestRuntime : public XrRuntimeTest {
       {"t": 1, "head": {"position": [0.1, 1.6, 0]}, "gaze": [0, -0.2, -1]}]})");
   }
 
-  void create_headless() {
+  // xrCreateInstance with XR_MND_headless into instance_; the result, for tests that expect a
+  // refusal.
+  XrResult create_headless_instance() {
     const char* extensions[] = {"XR_MND_headless"};
     auto ci = make<XrInstanceCreateInfo>(XR_TYPE_INSTANCE_CREATE_INFO);
     std::snprintf(ci.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "deixis-test");
     ci.applicationInfo.apiVersion = XR_CURRENT_API_VERSION;
     ci.enabledExtensionCount = 1;
     ci.enabledExtensionNames = extensions;
-    XR_OK(xrCreateInstance(&ci, &instance_));
+    return xrCreateInstance(&ci, &instance_);
+  }
+
+  void create_headless() {
+    XR_OK(create_headless_instance());
     auto sg = make<XrSystemGetInfo>(XR_TYPE_SYSTEM_GET_INFO);
     sg.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;
     XR_OK(xrGetSystem(instance_, &sg, &system_));
@@ -187,19 +193,13 @@ TEST_F(TestRuntime, ABadScriptIsRefusedNamingTheField) {
   };
   for (const auto& [script, field] : cases) {
     write_script(script);
-    const char* extensions[] = {"XR_MND_headless"};
-    auto ci = make<XrInstanceCreateInfo>(XR_TYPE_INSTANCE_CREATE_INFO);
-    std::snprintf(ci.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "deixis-test");
-    ci.applicationInfo.apiVersion = XR_CURRENT_API_VERSION;
-    ci.enabledExtensionCount = 1;
-    ci.enabledExtensionNames = extensions;
     // The runtime says why on stderr: catch it in a file.
     const fs::path caught = dir_ / "stderr.txt";
     std::fflush(stderr);
     const int saved = dup(STDERR_FILENO);
     const int file = open(caught.c_str(), O_CREAT | O_TRUNC | O_WRONLY, 0644);
     dup2(file, STDERR_FILENO);
-    const XrResult r = xrCreateInstance(&ci, &instance_);
+    const XrResult r = create_headless_instance();
     std::fflush(stderr);
     dup2(saved, STDERR_FILENO);
     close(saved);
