@@ -2,7 +2,8 @@
 // What every OpenXR test sets up: a per-test directory, Debian's loader pointed at the project's
 // test runtime (XR_RUNTIME_JSON) with XR_APILAYER_LUNARG_core_validation writing its messages to
 // a file, the runtime's record of submitted frames, and the script of head, gaze and hand poses.
-// Include it from one translation unit per test binary (it defines the LSan suppressions).
+// (Under ASan, the OpenXR loader's own leak is suppressed for every executable:
+// app/sanitizer_options.cpp.)
 
 #include <gtest/gtest.h>
 
@@ -13,14 +14,6 @@
 #include <string>
 
 #include <nlohmann/json.hpp>
-
-// LeakSanitizer (ASan build): Debian 12's OpenXR loader (libopenxr_loader.so.1) keeps about
-// 1.5 KB it allocates in xrCreateInstance after a successful xrDestroyInstance, once per
-// instance. The allocations are the loader's own; suppressing by module keeps every leak in
-// Deixis or its test runtime reported (docs/decisions.md §40).
-extern "C" const char* __lsan_default_suppressions() {
-  return "leak:libopenxr_loader.so\n";
-}
 
 namespace deixis::xr {
 
