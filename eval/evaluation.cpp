@@ -490,6 +490,21 @@ std::vector<Figure5Series> figure5_of(const Table& five, const std::vector<Weigh
   return out;
 }
 
+// Every weight set needs the hand directory of each subject evaluated (a left-handed subject
+// runs the left-hand networks), so a set with one hand can be evaluated on that hand's subjects.
+void require_hands(const std::vector<WeightSet>& weights, const std::vector<TestSet>& sets) {
+  for (const WeightSet& w : weights) {
+    for (const TestSet& set : sets) {
+      const fs::path dir = w.dir / hand_dir(set.hand());
+      if (!fs::is_directory(dir)) {
+        throw Error(dir.string() + ": no such directory: weight set " + w.label + " has no " +
+                    hand_dir(set.hand()) + "-hand networks for subject " + set.subject() +
+                    " (leave the subject out with --subjects)");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 Sampling full_sampling() {
@@ -511,13 +526,6 @@ Sampling quick_sampling() {
 Report evaluate(const EvalOptions& options) {
   const Clock::time_point start = Clock::now();
   Tables tables;
-  std::vector<Networks> networks;
-  for (const WeightSet& w : options.weights) {
-    if (!fs::is_directory(w.dir / "right") || !fs::is_directory(w.dir / "left")) {
-      throw Error(w.dir.string() + ": weight set " + w.label + " needs right/ and left/");
-    }
-    networks.emplace_back(w.dir);
-  }
   Report report;
   report.command = options.command;
   report.data_dir = options.data_dir.string();
@@ -534,6 +542,11 @@ Report evaluate(const EvalOptions& options) {
                        (set.hand() == Hand::kLeft ? "left" : "right") + "-handed, " +
                        std::to_string(set.height()).substr(0, 4) + " m");
     }
+  }
+  require_hands(options.weights, sets);
+  std::vector<Networks> networks;
+  for (const WeightSet& w : options.weights) {
+    networks.emplace_back(w.dir);
   }
   evaluate_subjects(options, sets, tables);
   bool have_encoder = false;

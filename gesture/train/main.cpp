@@ -34,6 +34,7 @@ struct Flags {
   std::int64_t checkpoint_batches = 0;
   std::int64_t max_batches = 0;
   bool restart = false;
+  std::string export_to;
 };
 
 void add_common(CLI::App* cmd, Flags& f, const std::string& architectures) {
@@ -78,6 +79,10 @@ void add_common(CLI::App* cmd, Flags& f, const std::string& architectures) {
                   "At most N batches per epoch (timing and smoke runs)")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--restart", f.restart, "Discard an existing checkpoint in --out");
+  cmd->add_option("--export-to", f.export_to,
+                  "Train nothing: write the weights and manifest of --out's checkpoint (a run in "
+                  "progress or a finished one) into this directory; the manifest says where the "
+                  "run stood. Give the run's own options, as for resuming.");
 }
 
 std::vector<Sequence> load(const std::vector<std::string>& files, Variant variant, Hand hand) {
@@ -136,6 +141,7 @@ int run(Family family, const Flags& f, const std::string& command_line) {
   o.checkpoint_batches = f.checkpoint_batches;
   o.max_batches = f.max_batches;
   o.restart = f.restart;
+  o.export_to = f.export_to;
   o.command_line = command_line;
   std::vector<std::filesystem::path> files;
   for (const auto& list : {f.data, f.validation}) {

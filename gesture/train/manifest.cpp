@@ -119,7 +119,11 @@ void write_manifest(const std::filesystem::path& path, const Manifest& m) {
                    {"wall_seconds", m.train_seconds},
                    {"final_train_loss", number_or_null(last.train_loss)},
                    {"final_validation_loss", number_or_null(last.validation_loss)},
-                   {"history", history}};
+                   {"history", history},
+                   {"complete", m.complete}};
+  if (!m.complete) {
+    manifest["stopped_at"] = {{"epoch", m.stopped_at_epoch}, {"batch", m.stopped_at_batch}};
+  }
   if (m.training_reconstruction || m.validation_reconstruction) {
     // Per frame, head and hand averaged: the figures the paper gives for its encoder (§V).
     auto entry = [&](const std::optional<ReconstructionError>& e) {

@@ -39,6 +39,11 @@ struct Manifest {
   Schedule schedule;
   double train_seconds = 0;  // wall time spent training, summed over resumed runs
   std::vector<EpochReport> history;
+  // Whether the schedule ran to its end. Weights exported from a run in progress (--export-to)
+  // say where it stood: the next epoch to run and the batches of it already done.
+  bool complete = true;
+  int stopped_at_epoch = 0;
+  std::int64_t stopped_at_batch = 0;
   // The autoencoder only: its reconstruction of the training and the validation segments.
   std::optional<ReconstructionError> training_reconstruction, validation_reconstruction;
 };

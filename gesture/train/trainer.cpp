@@ -159,7 +159,8 @@ class Run {
                      std::uint64_t stream, Timing& timing);
   double validation_loss(int epoch);
   void train_epoch(int epoch);
-  TrainOutcome finish();
+  TrainOutcome finish(const std::filesystem::path& dir);
+  TrainOutcome export_checkpoint();
   void report_reconstruction(Manifest& m);
 
   const TrainOptions& options_;
@@ -208,7 +209,9 @@ void Run::validate_data() const {
 }
 
 void Run::resume_or_start() {
-  std::filesystem::create_directories(options_.out_dir);
+  if (options_.export_to.empty()) {
+    std::filesystem::create_directories(options_.out_dir);  // an export only reads it
+  }
   checkpoint_path_ = options_.out_dir / "checkpoint.safetensors";
   torch::manual_seed(options_.seed);
   model_ = make_network(options_.network);
@@ -420,11 +423,14 @@ void Run::report_reconstruction(Manifest& m) {
   log_ << " (paper, right hand: 0.38 cm, 0.97 deg; 1.29 cm, 3.90 deg)" << std::endl;
 }
 
-TrainOutcome Run::finish() {
+// Writes the current weights and their manifest into `dir`: the run's own directory when the
+// schedule has ended, another one for --export-to.
+TrainOutcome Run::finish(const std::filesystem::path& dir) {
   const std::string stem = weights_stem(options_.network, options_.variant);
+  std::filesystem::create_directories(dir);
   TrainOutcome outcome;
-  outcome.weights = options_.out_dir / (stem + ".safetensors");
-  outcome.manifest = options_.out_dir / (stem + ".manifest.json");
+  outcome.weights = dir / (stem + ".safetensors");
+  outcome.manifest = dir / (stem + ".manifest.json");
   SafetensorsWriter writer = export_weights(*model_);
   writer.set_metadata("network", std::string(network_name(options_.network)));
   writer.set_metadata("variant", std::string(variant_tag(options_.variant)));
@@ -451,6 +457,9 @@ TrainOutcome Run::finish() {
   m.schedule = options_.schedule;
   m.train_seconds = state_.train_seconds;
   m.history = state_.history;
+  m.complete = state_.epoch > options_.schedule.epochs;
+  m.stopped_at_epoch = state_.epoch;
+  m.stopped_at_batch = state_.batch;
   if (family_ == Family::kMotionAutoencoder) {
     report_reconstruction(m);
   }
@@ -464,10 +473,30 @@ TrainOutcome Run::finish() {
   return outcome;
 }
 
+// --export-to: the checkpoint's weights as they are, e.g. to evaluate a run in progress. Nothing
+// in the run's directory is written, so the run itself can go on (or be resumed) undisturbed.
+TrainOutcome Run::export_checkpoint() {
+  if (!resumed_) {
+    throw Error(checkpoint_path_.string() +
+                ": no checkpoint to export (--export-to exports the "
+                "checkpoint of the run in --out; start the run first)");
+  }
+  log_ << "exporting the checkpoint at epoch " << state_.epoch << ", batch " << state_.batch << " ("
+       << state_.history.size() << " of " << options_.schedule.epochs << " epochs done) to "
+       << options_.export_to.string() << std::endl;
+  return finish(options_.export_to);
+}
+
 TrainOutcome Run::execute() {
   validate_data();
   torch::set_num_threads(options_.threads);
+  if (!options_.export_to.empty() && options_.restart) {
+    throw Error("--export-to exports an existing checkpoint; it cannot be combined with --restart");
+  }
   resume_or_start();
+  if (!options_.export_to.empty()) {
+    return export_checkpoint();
+  }
   const Schedule& schedule = options_.schedule;
   const std::size_t batches = data_.train.count / static_cast<std::size_t>(schedule.batch_size);
   const int steps_per_batch = family_ == Family::kMotionAutoencoder ? 1 : kWindowsPerClip;
@@ -510,7 +539,7 @@ TrainOutcome Run::execute() {
                        eta_seconds(mean, static_cast<int>(state_.history.size()), schedule.epochs))
          << std::endl;
   }
-  return finish();
+  return finish(options_.out_dir);
 }
 
 }  // namespace

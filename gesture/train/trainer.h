@@ -34,6 +34,9 @@ struct TrainOptions {
   std::int64_t checkpoint_batches = 0;  // > 0: also every that many batches (tests)
   bool restart = false;                 // ignore an existing checkpoint
   std::int64_t max_batches = 0;         // > 0: at most that many batches per epoch (timing)
+  // Non-empty: train nothing; write the weights and manifest of out_dir's checkpoint (a run in
+  // progress, or a finished one) into this directory. The checkpoint is only read.
+  std::filesystem::path export_to;
   std::string command_line;
   std::string dataset_hash;
   std::vector<std::string> dataset_files;
@@ -53,7 +56,8 @@ struct TrainOutcome {
   bool resumed = false;
 };
 
-// Throws deixis::Error on bad options or a checkpoint from a different run.
+// Throws deixis::Error on bad options, a checkpoint from a different run, or (export_to) no
+// checkpoint to export.
 TrainOutcome train(const TrainOptions& options, const TrainingData& data, std::ostream& log);
 
 }  // namespace deixis::train

@@ -303,6 +303,39 @@ TEST_F(EvalRun, TheThreadCountDoesNotChangeTheTables) {
   EXPECT_TRUE(found) << one["tables"][0].dump();
 }
 
+// A weight set with one hand (e.g. a run in progress exported with deixis-train --export-to) is
+// evaluated on that hand's subjects; a subject of the other hand is refused, naming what is
+// missing, before any work starts.
+TEST_F(EvalRun, AOneHandedWeightSetServesItsHandsSubjectsOnly) {
+  ScratchDir dir;
+  fs::create_directories(dir.path() / "right");
+  for (const char* file : {"MPNet(MoE)(DG)80.safetensors", "UGNet(MoE)(DG)120.safetensors"}) {
+    fs::copy_file(deixis::testing::reference_dir() / "weights/right" / file,
+                  dir.path() / "right" / file);
+  }
+  EvalOptions o = quick_options();
+  o.weights = {{"half", dir.path()}};
+  o.subjects = {"161"};
+  const nlohmann::json j = nlohmann::json::parse(json(evaluate(o)));
+  bool found = false;
+  for (const auto& r : j["tables"][0]["rows"]) {
+    if (r["label"] == "MoE (DG)" && r["weights"] == "half") {
+      found = r["per_subject"]["161"][0].is_number();
+    }
+  }
+  EXPECT_TRUE(found) << j["tables"][0].dump();
+
+  o.subjects = {"161", "173"};
+  try {
+    evaluate(o);
+    ADD_FAILURE() << "a left-handed subject was evaluated without left-hand networks";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find((dir.path() / "left").string()), std::string::npos) << what;
+    EXPECT_NE(what.find("subject 173"), std::string::npos) << what;
+  }
+}
+
 TEST_F(EvalRun, RefusesTrainingSubjectData) {
   ScratchDir dir;
   capture::GenerateOptions g;

@@ -212,6 +212,25 @@ TEST_F(Executable, ResumeAfterKillReproducesTheUninterruptedRun) {
   ASSERT_TRUE(WIFSIGNALED(status)) << "the run finished before it could be killed";
   EXPECT_FALSE(fs::exists(killed / "MPNet(MoE)(AC).manifest.json"));
 
+  // --export-to writes the interrupted run's weights elsewhere, says where the run stood, and
+  // leaves its checkpoint as it was (the resume below must still reproduce the whole run).
+  const std::string checkpoint_bytes = read_text(checkpoint);
+  const Checkpoint at_kill = read_checkpoint(checkpoint);
+  std::vector<std::string> export_args = command(data_, validation_, killed);
+  const fs::path partial = dir_.path() / "partial";
+  export_args.insert(export_args.end(), {"--export-to", partial.string()});
+  const Result exported = run(export_args, dir_.path() / "export.log");
+  ASSERT_EQ(exported.exit_code, 0) << exported.output;
+  EXPECT_EQ(read_text(checkpoint), checkpoint_bytes);
+  EXPECT_FALSE(fs::exists(killed / "MPNet(MoE)(AC).safetensors"));
+  const nlohmann::json p = manifest(partial);
+  EXPECT_FALSE(p["complete"].get<bool>());
+  EXPECT_EQ(p["stopped_at"]["epoch"].get<int>(), at_kill.epoch);
+  EXPECT_EQ(p["stopped_at"]["batch"].get<std::int64_t>(), at_kill.batch);
+  EXPECT_EQ(p["history"].size(), at_kill.history.size());
+  const SafetensorsFile partial_weights =
+      SafetensorsFile::read(partial / "MPNet(MoE)(AC).safetensors");
+
   const Result resumed = run(command(data_, validation_, killed), dir_.path() / "resumed.log");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_NE(resumed.output.find("resuming from"), std::string::npos) << resumed.output;
@@ -228,18 +247,52 @@ TEST_F(Executable, ResumeAfterKillReproducesTheUninterruptedRun) {
         << "epoch " << e + 1;
   }
   EXPECT_LT(a["final_train_loss"].get<double>(), a["history"][0]["train_loss"].get<double>());
-  // Same weights to the bit.
+  // Same weights to the bit; the export from mid-run holds the same tensors, less trained.
   const SafetensorsFile wa = SafetensorsFile::read(whole / "MPNet(MoE)(AC).safetensors");
   const SafetensorsFile wb = SafetensorsFile::read(killed / "MPNet(MoE)(AC).safetensors");
+  bool partial_differs = false;
   for (const TensorInfo& t : wa.tensors()) {
     EXPECT_EQ(wa.read_f32(t.name, t.shape), wb.read_f32(t.name, t.shape)) << t.name;
+    partial_differs = partial_differs ||
+                      partial_weights.read_f32(t.name, t.shape) != wa.read_f32(t.name, t.shape);
   }
+  EXPECT_EQ(partial_weights.tensors().size(), wa.tensors().size());
+  EXPECT_TRUE(partial_differs);
+  EXPECT_TRUE(a["complete"].get<bool>());
+  EXPECT_FALSE(a.contains("stopped_at"));
   // The manifest says how the weights were made.
   EXPECT_EQ(a["seed"].get<int>(), 5);
   EXPECT_EQ(a["dataset_hash"].get<std::string>().size(), 64u);
   EXPECT_NE(a["command_line"].get<std::string>().find("--epochs 4"), std::string::npos);
   EXPECT_GT(a["wall_seconds"].get<double>(), 0.0);
   EXPECT_FALSE(a["commit"].get<std::string>().empty());
+}
+
+TEST_F(Executable, ExportingAFinishedRunGivesItsWeightsAndExportingNothingIsAnError) {
+  const fs::path out = dir_.path() / "out";
+  ASSERT_EQ(run(command(data_, validation_, out), dir_.path() / "a.log").exit_code, 0);
+  std::vector<std::string> args = command(data_, validation_, out);
+  const fs::path copy = dir_.path() / "copy";
+  args.insert(args.end(), {"--export-to", copy.string()});
+  const Result exported = run(args, dir_.path() / "export.log");
+  ASSERT_EQ(exported.exit_code, 0) << exported.output;
+  const SafetensorsFile original = SafetensorsFile::read(out / "MPNet(MoE)(AC).safetensors");
+  const SafetensorsFile again = SafetensorsFile::read(copy / "MPNet(MoE)(AC).safetensors");
+  for (const TensorInfo& t : original.tensors()) {
+    EXPECT_EQ(original.read_f32(t.name, t.shape), again.read_f32(t.name, t.shape)) << t.name;
+  }
+  EXPECT_TRUE(manifest(copy)["complete"].get<bool>());
+  EXPECT_EQ(manifest(copy)["history"], manifest(out)["history"]);
+
+  std::vector<std::string> none = command(data_, validation_, dir_.path() / "never-ran");
+  none.insert(none.end(), {"--export-to", (dir_.path() / "x").string()});
+  const Result refused = run(none, dir_.path() / "none.log");
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.output.find("never-ran/checkpoint.safetensors: no checkpoint to export"),
+            std::string::npos)
+      << refused.output;
+  EXPECT_FALSE(fs::exists(dir_.path() / "x"));
+  EXPECT_FALSE(fs::exists(dir_.path() / "never-ran"));
 }
 
 TEST_F(Executable, ACheckpointOfAnotherRunIsRefused) {
