@@ -13,7 +13,6 @@
 #include <ATen/CPUGeneratorImpl.h>
 #include <torch/torch.h>
 
-#include <Eigen/Core>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -22,6 +21,7 @@
 #include <sstream>
 
 #include "gesture/error.h"
+#include "gesture/train/adamw.h"
 #include "gesture/train/manifest.h"
 #include "gesture/train/models.h"
 #include "gesture/train/progress.h"
@@ -90,31 +90,8 @@ FlatParameters flatten(torch::nn::Module& model) {
   return flat;
 }
 
-// torch.optim.AdamW (1.13, single tensor, no amsgrad) on the flat buffers. UGNet's 2.25 MB of
-// parameters do not fit in L2, so the update runs block by block (each block's p, g, m, v stay
-// in L1 across the vectorised Eigen passes) and also clears the gradient for the next step.
-void adamw_step(FlatParameters& flat, const Schedule& s, double lr, std::int64_t step) {
-  using Array = Eigen::Map<Eigen::ArrayXf>;
-  const auto t = static_cast<double>(step);
-  const auto decay = static_cast<float>(1.0 - lr * s.weight_decay);
-  const auto beta1 = static_cast<float>(s.beta1);
-  const auto beta2 = static_cast<float>(s.beta2);
-  const auto step_size = static_cast<float>(lr / (1.0 - std::pow(s.beta1, t)));
-  const auto inverse_correction2_sqrt =
-      static_cast<float>(1.0 / std::sqrt(1.0 - std::pow(s.beta2, t)));
-  const auto eps = static_cast<float>(s.epsilon);
-  constexpr std::int64_t kBlock = 1024;
-  for (std::int64_t first = 0; first < flat.numel; first += kBlock) {
-    const std::int64_t n = std::min(kBlock, flat.numel - first);
-    Array p(flat.values.data_ptr<float>() + first, n);
-    Array g(flat.grads.data_ptr<float>() + first, n);
-    Array m(flat.exp_avg.data_ptr<float>() + first, n);
-    Array v(flat.exp_avg_sq.data_ptr<float>() + first, n);
-    m = m * beta1 + (1.0f - beta1) * g;
-    v = v * beta2 + (1.0f - beta2) * g.square();
-    p = p * decay - step_size * m / (v.sqrt() * inverse_correction2_sqrt + eps);
-    g.setZero();
-  }
+std::span<float> span_of(torch::Tensor& t) {
+  return {t.data_ptr<float>(), static_cast<std::size_t>(t.numel())};
 }
 
 torch::Tensor gather(const ExampleSet& set, const std::vector<std::size_t>& order,
@@ -287,7 +264,9 @@ Run::Loss Run::process_batch(torch::Tensor batch, bool training, double teacher_
       timing.backward += seconds_since(t0);
       t0 = Clock::now();
       ++state_.step;
-      adamw_step(flat_, options_.schedule, lr, state_.step);  // also zeroes the gradients
+      adamw_step({span_of(flat_.values), span_of(flat_.grads), span_of(flat_.exp_avg),
+                  span_of(flat_.exp_avg_sq)},
+                 options_.schedule, lr, state_.step);  // also zeroes the gradients
       timing.optimiser += seconds_since(t0);
     }
   };
