@@ -57,7 +57,8 @@ void write_checkpoint(const std::filesystem::path& path, const Checkpoint& c) {
                       {"loss_count", c.loss_count},
                       {"epoch_seconds", c.epoch_seconds},
                       {"train_seconds", c.train_seconds},
-                      {"history", history}};
+                      {"history", history},
+                      {"trainers", c.trainers}};
   SafetensorsWriter writer;
   const auto n = static_cast<std::int64_t>(c.parameters.size());
   writer.add_f32("parameters", {n}, c.parameters);
@@ -108,6 +109,13 @@ Checkpoint read_checkpoint(const std::filesystem::path& path) {
     r.teacher_forcing = field<double>(entry, "teacher_forcing", entry_where);
     r.seconds = field<double>(entry, "seconds", entry_where);
     c.history.push_back(r);
+  }
+  if (!state.contains("trainers")) {
+    if (c.step > 0) {
+      c.trainers.emplace_back("unrecorded");  // written before checkpoints kept the list
+    }
+  } else {
+    c.trainers = field<std::vector<std::string>>(state, "trainers", state_where);
   }
   const std::vector<std::int64_t>& shape = file.shape_of("parameters");
   if (shape.size() != 1) {

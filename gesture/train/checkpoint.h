@@ -38,6 +38,10 @@ struct Checkpoint {
   double epoch_seconds = 0;  // spent in the epoch in progress so far
   double train_seconds = 0;  // spent training over all runs so far
   std::vector<EpochReport> history;
+  // The build commits of the deixis-train binaries that ran this run, in order, each once per
+  // change: a long run resumed across sessions can be continued by a newer trainer, and its
+  // manifest says so. "unrecorded" stands for training done before checkpoints kept this list.
+  std::vector<std::string> trainers;
   std::vector<float> parameters;
   std::vector<float> exp_avg;
   std::vector<float> exp_avg_sq;

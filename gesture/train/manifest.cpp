@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "build_commit.h"  // generated: DEIXIS_BUILD_COMMIT
 #include "gesture/error.h"
 
 namespace deixis::train {
@@ -64,20 +65,8 @@ std::string dataset_hash(const std::vector<std::filesystem::path>& files) {
   return hex(digest.data(), digest.size());
 }
 
-std::string source_commit() {
-  std::string out;
-  if (FILE* pipe =
-          popen("git -C '" DEIXIS_SOURCE_DIR "' describe --always --dirty 2>/dev/null", "r")) {
-    std::array<char, 128> line{};
-    while (std::fgets(line.data(), line.size(), pipe) != nullptr) {
-      out += line.data();
-    }
-    pclose(pipe);
-  }
-  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) {
-    out.pop_back();
-  }
-  return out.empty() ? "unknown" : out;
+std::string build_commit() {
+  return DEIXIS_BUILD_COMMIT;
 }
 
 void write_manifest(const std::filesystem::path& path, const Manifest& m) {
@@ -110,6 +99,7 @@ void write_manifest(const std::filesystem::path& path, const Manifest& m) {
                    {"seed", m.seed},
                    {"threads", m.threads},
                    {"commit", m.commit},
+                   {"trained_by", m.trained_by},
                    {"dataset_hash", m.dataset_hash},
                    {"dataset_files", m.dataset_files},
                    {"train_examples", m.train_examples},

@@ -30,7 +30,9 @@ struct Manifest {
   std::string command_line;
   std::uint64_t seed = 0;
   int threads = 1;
-  std::string commit;
+  std::string commit;  // the exporting binary's build_commit()
+  // The build commits of the binaries that trained the run, in order (Checkpoint::trainers).
+  std::vector<std::string> trained_by;
   std::string dataset_hash;  // sha256 over the dataset files' hashes (dataset_hash())
   std::vector<std::string> dataset_files;
   std::size_t train_examples = 0;
@@ -54,7 +56,8 @@ void write_manifest(const std::filesystem::path& path, const Manifest& manifest)
 std::string sha256_file(const std::filesystem::path& path);
 // SHA-256 of the concatenated per-file hashes, in the given order.
 std::string dataset_hash(const std::vector<std::filesystem::path>& files);
-// `git describe --always --dirty` of the source tree the binary was built from, or "unknown".
-std::string source_commit();
+// `git describe --always --dirty` of the source tree this binary was built from (taken at build
+// time), or "unknown".
+std::string build_commit();
 
 }  // namespace deixis::train

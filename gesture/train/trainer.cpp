@@ -427,7 +427,8 @@ TrainOutcome Run::finish(const std::filesystem::path& dir) {
   m.command_line = options_.command_line;
   m.seed = options_.seed;
   m.threads = options_.threads;
-  m.commit = source_commit();
+  m.commit = build_commit();
+  m.trained_by = state_.trainers;
   m.dataset_hash = options_.dataset_hash;
   m.dataset_files = options_.dataset_files;
   m.train_examples = data_.train.count;
@@ -475,6 +476,10 @@ TrainOutcome Run::execute() {
   resume_or_start();
   if (!options_.export_to.empty()) {
     return export_checkpoint();
+  }
+  // This binary trains from here on: the manifest will name it among the run's trainers.
+  if (state_.trainers.empty() || state_.trainers.back() != build_commit()) {
+    state_.trainers.push_back(build_commit());
   }
   const Schedule& schedule = options_.schedule;
   const std::size_t batches = data_.train.count / static_cast<std::size_t>(schedule.batch_size);

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <nlohmann/json.hpp>
 
 #include "gesture/error.h"
 #include "gesture/train/checkpoint.h"
@@ -256,6 +257,7 @@ TEST(Checkpoint, RoundTripsExactly) {
   c.parameters = {1.5f, -2.0f, 3.25f};
   c.exp_avg = {0.1f, 0.2f, 0.3f};
   c.exp_avg_sq = {0.01f, 0.02f, 0.03f};
+  c.trainers = {"unrecorded", "ffb63a1", "abc1234-dirty"};
   write_checkpoint(dir.path() / "c.safetensors", c);
   const Checkpoint r = read_checkpoint(dir.path() / "c.safetensors");
   EXPECT_EQ(r.fingerprint, c.fingerprint);
@@ -268,6 +270,42 @@ TEST(Checkpoint, RoundTripsExactly) {
   EXPECT_TRUE(std::isnan(r.history[0].validation_loss));
   EXPECT_EQ(r.parameters, c.parameters);
   EXPECT_EQ(r.exp_avg_sq, c.exp_avg_sq);
+  EXPECT_EQ(r.trainers, c.trainers);
+}
+
+// Checkpoints written before the list of trainers existed still resume; their earlier training
+// is marked "unrecorded" rather than attributed to the binary that resumes them.
+TEST(Checkpoint, AnOlderCheckpointWithoutTrainersSaysTheyAreUnrecorded) {
+  deixis::testing::ScratchDir dir;
+  Checkpoint c;
+  c.fingerprint = "UGNet(MoE)|seed 1";
+  c.step = 10;
+  c.parameters = c.exp_avg = c.exp_avg_sq = {1.0f};
+  write_checkpoint(dir.path() / "new.safetensors", c);
+  const SafetensorsFile file = SafetensorsFile::read(dir.path() / "new.safetensors");
+  nlohmann::json state = nlohmann::json::parse(file.metadata_value("state"));
+  const auto rewrite = [&](const std::filesystem::path& path) {  // same tensors, the edited state
+    SafetensorsWriter w;
+    const std::vector<std::int64_t> shape = {1};
+    for (const char* name : {"parameters", "exp_avg", "exp_avg_sq"}) {
+      w.add_f32(name, shape, file.read_f32(name, shape));
+    }
+    w.set_metadata("format", "deixis-train checkpoint 1");
+    w.set_metadata("state", state.dump());
+    w.write(path);
+  };
+  state.erase("trainers");
+  rewrite(dir.path() / "old.safetensors");
+  EXPECT_EQ(read_checkpoint(dir.path() / "old.safetensors").trainers,
+            std::vector<std::string>{"unrecorded"});
+  state["trainers"] = "not a list";
+  rewrite(dir.path() / "bad.safetensors");
+  try {
+    read_checkpoint(dir.path() / "bad.safetensors");
+    ADD_FAILURE() << "a malformed trainers field was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'trainers'"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
