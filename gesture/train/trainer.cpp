@@ -477,8 +477,10 @@ TrainOutcome Run::execute() {
   if (!options_.export_to.empty()) {
     return export_checkpoint();
   }
-  // This binary trains from here on: the manifest will name it among the run's trainers.
-  if (state_.trainers.empty() || state_.trainers.back() != build_commit()) {
+  // This binary trains from here on (unless the schedule has already ended and the run is only
+  // re-exported): the manifest will name it among the run's trainers.
+  const bool trains = state_.epoch <= options_.schedule.epochs;
+  if (trains && (state_.trainers.empty() || state_.trainers.back() != build_commit())) {
     state_.trainers.push_back(build_commit());
   }
   const Schedule& schedule = options_.schedule;

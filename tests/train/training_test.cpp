@@ -288,6 +288,12 @@ TEST_F(Executable, ExportingAFinishedRunGivesItsWeightsAndExportingNothingIsAnEr
     EXPECT_EQ(original.read_f32(t.name, t.shape), again.read_f32(t.name, t.shape)) << t.name;
   }
   EXPECT_TRUE(manifest(copy)["complete"].get<bool>());
+  // Rerunning a finished run only re-exports it: a newer binary doing so adds no trainer.
+  Checkpoint finished = read_checkpoint(out / "checkpoint.safetensors");
+  finished.trainers = {"an-older-trainer"};
+  write_checkpoint(out / "checkpoint.safetensors", finished);
+  ASSERT_EQ(run(command(data_, validation_, out), dir_.path() / "again.log").exit_code, 0);
+  EXPECT_EQ(manifest(out)["trained_by"], nlohmann::json::array({"an-older-trainer"}));
   EXPECT_EQ(manifest(copy)["history"], manifest(out)["history"]);
 
   std::vector<std::string> none = command(data_, validation_, dir_.path() / "never-ran");
