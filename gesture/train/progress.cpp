@@ -23,8 +23,18 @@ std::string format_duration(double seconds) {
   return buffer;
 }
 
-double eta_seconds(double mean_epoch_seconds, int epochs_done, int epochs_total) {
-  return mean_epoch_seconds * std::max(0, epochs_total - epochs_done);
+double eta_seconds(const std::vector<EpochReport>& history, int epochs_total) {
+  constexpr std::size_t kRecentEpochs = 5;
+  const std::size_t recent = std::min(kRecentEpochs, history.size());
+  if (recent == 0) {
+    return 0;
+  }
+  double sum = 0;
+  for (std::size_t i = history.size() - recent; i < history.size(); ++i) {
+    sum += history[i].seconds;
+  }
+  const int remaining = std::max(0, epochs_total - static_cast<int>(history.size()));
+  return sum / static_cast<double>(recent) * remaining;
 }
 
 std::string epoch_line(const EpochReport& r, int epochs_total, double eta) {

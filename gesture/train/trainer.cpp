@@ -516,13 +516,7 @@ TrainOutcome Run::execute() {
     state_.loss_count = 0;
     state_.epoch_seconds = 0;
     save_checkpoint();
-    double mean = 0;
-    for (const EpochReport& r : state_.history) {
-      mean += r.seconds;
-    }
-    mean /= static_cast<double>(state_.history.size());
-    log_ << epoch_line(report, schedule.epochs,
-                       eta_seconds(mean, static_cast<int>(state_.history.size()), schedule.epochs))
+    log_ << epoch_line(report, schedule.epochs, eta_seconds(state_.history, schedule.epochs))
          << std::endl;
   }
   return finish(options_.out_dir);

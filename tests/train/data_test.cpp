@@ -15,6 +15,7 @@
 #include "gesture/train/clips.h"
 #include "gesture/train/dataset.h"
 #include "gesture/train/network_kind.h"
+#include "gesture/train/progress.h"
 #include "gesture/train/schedule.h"
 #include "synthetic_sequences.h"
 #include "test_support.h"
@@ -240,6 +241,25 @@ TEST(Schedule, LearningRateAndScheduledSampling) {
   EXPECT_NEAR(ugnet.teacher_forcing_at(45), 0.5, 1e-12);
   EXPECT_EQ(ugnet.teacher_forcing_at(60), 0.0);
   EXPECT_EQ(ugnet.teacher_forcing_at(120), 0.0);
+}
+
+// ---- progress ----
+
+// The ETA follows the pace of the last five epochs: after a run sped up (a faster trainer, a
+// quieter machine) it says so at once instead of averaging in the slow start.
+TEST(Progress, TheEtaFollowsTheRecentPace) {
+  std::vector<EpochReport> history;
+  EXPECT_EQ(eta_seconds(history, 10), 0.0);
+  for (int e = 1; e <= 20; ++e) {
+    EpochReport r;
+    r.epoch = e;
+    r.seconds = e <= 15 ? 180.0 : 30.0;
+    history.push_back(r);
+  }
+  EXPECT_DOUBLE_EQ(eta_seconds(history, 100), 80 * 30.0);
+  history.resize(2);
+  EXPECT_DOUBLE_EQ(eta_seconds(history, 4), 2 * 180.0);
+  EXPECT_EQ(eta_seconds(history, 2), 0.0);
 }
 
 // ---- checkpoint file ----
