@@ -34,6 +34,7 @@ struct Flags {
   std::int64_t checkpoint_batches = 0;
   std::int64_t max_batches = 0;
   bool restart = false;
+  bool autograd = false;
   std::string export_to;
 };
 
@@ -79,6 +80,11 @@ void add_common(CLI::App* cmd, Flags& f, const std::string& architectures) {
                   "At most N batches per epoch (timing and smoke runs)")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--restart", f.restart, "Discard an existing checkpoint in --out");
+  if (architectures.find("moe") != std::string::npos) {
+    cmd->add_flag("--autograd", f.autograd,
+                  "MoE: run the network through libtorch's autograd instead of the direct step "
+                  "(gesture/train/moe_step.h; the same maths, slower; for comparison)");
+  }
   cmd->add_option("--export-to", f.export_to,
                   "Train nothing: write the weights and manifest of --out's checkpoint (a run in "
                   "progress or a finished one) into this directory; the manifest says where the "
@@ -141,6 +147,7 @@ int run(Family family, const Flags& f, const std::string& command_line) {
   o.checkpoint_batches = f.checkpoint_batches;
   o.max_batches = f.max_batches;
   o.restart = f.restart;
+  o.autograd = f.autograd;
   o.export_to = f.export_to;
   o.command_line = command_line;
   std::vector<std::filesystem::path> files;

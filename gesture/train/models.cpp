@@ -393,6 +393,44 @@ std::string shape_of(const torch::Tensor& t) {
 
 }  // namespace
 
+MoeBuffers moe_buffers(TrainableNetwork& network, bool gradients) {
+  std::map<std::string, float*> memory;
+  for (const auto& item : network.named_parameters()) {
+    const torch::Tensor t = gradients ? item.value().grad() : item.value();
+    const std::string what = gradients ? "the gradient of '" + item.key() + "'" : item.key();
+    if (!t.defined()) {
+      throw Error("moe_buffers: " + what + " is not defined");
+    }
+    if (!t.is_contiguous() || t.scalar_type() != torch::kFloat32) {
+      throw Error("moe_buffers: " + what + " is not a contiguous float32 tensor");
+    }
+    memory[item.key()] = t.data_ptr<float>();
+  }
+  auto find = [&](const std::string& name) {
+    const auto it = memory.find(name);
+    if (it == memory.end()) {
+      throw Error("moe_buffers: the network has no tensor '" + name + "' (not a MoE network)");
+    }
+    return it->second;
+  };
+  auto gru = [&](const std::string& prefix, int layer) {
+    const std::string k = "_l" + std::to_string(layer);
+    return GruLayerBuffers{find(prefix + "weight_ih" + k), find(prefix + "weight_hh" + k),
+                           find(prefix + "bias_ih" + k), find(prefix + "bias_hh" + k)};
+  };
+  MoeBuffers b;
+  b.gating[0] = gru("gating_network.gru.", 0);
+  b.gating[1] = gru("gating_network.gru.", 1);
+  if (memory.count("gru.weight_ih_l0") > 0) {
+    b.encoder = gru("gru.", 0);
+  }
+  for (int l = 0; l < 3; ++l) {
+    b.expert_weights[l] = find("moe_network.w_l" + std::to_string(l + 1));
+    b.expert_biases[l] = find("moe_network.b_l" + std::to_string(l + 1));
+  }
+  return b;
+}
+
 std::shared_ptr<TrainableNetwork> make_network(Network network) {
   switch (network) {
     case Network::kMpnetMoe:

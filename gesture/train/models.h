@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "gesture/io/safetensors.h"
+#include "gesture/train/moe_step.h"
 #include "gesture/train/network_kind.h"
 
 namespace deixis::train {
@@ -44,6 +45,11 @@ torch::Tensor diffusion_sample(TrainableNetwork& diffusion, const torch::Tensor&
                                const torch::Tensor& noise);
 // The autoencoder's 128-d latent codes of segments [batch, 30, 18].
 torch::Tensor motion_codes(TrainableNetwork& autoencoder, const torch::Tensor& segments);
+
+// A MoE network's (MPNet(MoE), UGNet(MoE)) tensors as MoeStep buffers (moe_step.h): the
+// parameters' own memory, or with `gradients` the memory of their .grad() tensors, which must be
+// defined. Throws naming the tensor when one is missing, not contiguous or not float32.
+MoeBuffers moe_buffers(TrainableNetwork& network, bool gradients);
 
 // Copies every parameter and buffer from a safetensors file. Errors name the file and tensor:
 // a missing or unexpected tensor, a wrong shape or dtype, a non-finite value.

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <ostream>
 #include <random>
 #include <sstream>
@@ -24,6 +25,7 @@
 #include "gesture/train/adamw.h"
 #include "gesture/train/manifest.h"
 #include "gesture/train/models.h"
+#include "gesture/train/moe_step.h"
 #include "gesture/train/progress.h"
 #include "gesture/train/reconstruction.h"
 
@@ -134,6 +136,9 @@ class Run {
   void save_checkpoint();
   Loss process_batch(torch::Tensor batch, bool training, double teacher_forcing,
                      std::uint64_t stream, Timing& timing);
+  Loss process_batch_moe(torch::Tensor& batch, bool training, double teacher_forcing,
+                         std::uint64_t stream, Timing& timing);
+  void optimiser_step(Timing& timing);
   double validation_loss(int epoch);
   void train_epoch(int epoch);
   TrainOutcome finish(const std::filesystem::path& dir);
@@ -146,6 +151,9 @@ class Run {
   Family family_;
   std::shared_ptr<TrainableNetwork> model_;
   FlatParameters flat_;
+  // MPNet(MoE) and UGNet(MoE) train through moe_step.h on the flat buffers' memory.
+  std::optional<MoeStep> moe_;
+  MoeBuffers moe_parameters_, moe_gradients_;
   Checkpoint state_;
   Clock::time_point last_save_ = Clock::now();
   Clock::time_point segment_start_ = Clock::now();  // since state_ times were last updated
@@ -194,6 +202,18 @@ void Run::resume_or_start() {
   model_ = make_network(options_.network);
   model_->train();
   flat_ = flatten(*model_);
+  const bool moe = options_.network == Network::kMpnetMoe || options_.network == Network::kUgnetMoe;
+  if (moe && !options_.autograd) {
+    const MoeShape shape =
+        options_.network == Network::kMpnetMoe ? MoeShape::mpnet() : MoeShape::ugnet();
+    if (shape.parameter_count() != static_cast<std::size_t>(flat_.numel)) {
+      throw Error("the MoE step expects " + std::to_string(shape.parameter_count()) +
+                  " parameters, the network has " + std::to_string(flat_.numel));
+    }
+    moe_.emplace(shape, options_.schedule.batch_size);
+    moe_parameters_ = moe_buffers(*model_, false);
+    moe_gradients_ = moe_buffers(*model_, true);
+  }
   state_.fingerprint = fingerprint();
   if (options_.restart || !std::filesystem::exists(checkpoint_path_)) {
     return;
@@ -242,9 +262,62 @@ void Run::save_checkpoint() {
   last_save_ = Clock::now();
 }
 
+void Run::optimiser_step(Timing& timing) {
+  const auto t0 = Clock::now();
+  ++state_.step;
+  adamw_step({span_of(flat_.values), span_of(flat_.grads), span_of(flat_.exp_avg),
+              span_of(flat_.exp_avg_sq)},
+             options_.schedule, options_.schedule.learning_rate_at(state_.epoch),
+             state_.step);  // also zeroes the gradients
+  timing.optimiser += seconds_since(t0);
+}
+
+// process_batch for the MoE networks through moe_step.h: the same windows, the same draws for
+// scheduled sampling (the stream's third generator) and the same optimiser steps.
+Run::Loss Run::process_batch_moe(torch::Tensor& batch, bool training, double teacher_forcing,
+                                 std::uint64_t stream, Timing& timing) {
+  Loss loss;
+  std::mt19937_64 rng(mix(stream, 3));
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const auto count = static_cast<int>(batch.size(0));
+  const auto columns = static_cast<std::size_t>(batch.size(2));
+  const auto item_stride = static_cast<std::size_t>(batch.size(1)) * columns;
+  float* clips = batch.data_ptr<float>();
+  const auto input_columns =
+      static_cast<std::size_t>(family_ == Family::kMpnet ? kMpnetInputs : kUgnetInputs);
+  for (int t = 0; t < kWindowsPerClip; ++t) {
+    auto t0 = Clock::now();
+    float* newest = clips + static_cast<std::size_t>(kWindowRows - 1 + t) * columns;
+    // UGNet's scheduled sampling, as process_batch: the newest pose row becomes the previous
+    // window's prediction, still in the step's output.
+    if (family_ == Family::kUgnet && t > 0 && uniform(rng) < 1.0 - teacher_forcing) {
+      const std::span<const float> previous = moe_->prediction();
+      for (int b = 0; b < count; ++b) {
+        std::copy_n(previous.data() + static_cast<std::size_t>(b * kPoseColumns), kPoseColumns,
+                    newest + static_cast<std::size_t>(b) * item_stride);
+      }
+    }
+    const WindowBatch windows{clips + static_cast<std::size_t>(t) * columns, item_stride, columns};
+    const TargetBatch targets{newest + input_columns, item_stride};
+    loss.sum += moe_->forward(moe_parameters_, windows, targets, count);
+    ++loss.count;
+    timing.forward += seconds_since(t0);
+    if (training) {
+      t0 = Clock::now();
+      moe_->backward(moe_parameters_, moe_gradients_);
+      timing.backward += seconds_since(t0);
+      optimiser_step(timing);
+    }
+  }
+  return loss;
+}
+
 // One batch: the 16 windows of each clip in turn (MPNet, UGNet) or one step (autoencoder).
 Run::Loss Run::process_batch(torch::Tensor batch, bool training, double teacher_forcing,
                              std::uint64_t stream, Timing& timing) {
+  if (moe_) {
+    return process_batch_moe(batch, training, teacher_forcing, stream, timing);
+  }
   Loss loss;
   // Dropout (Transformers) draws from the global generator, the diffusion noise from its own:
   // both are seeded from (seed, epoch, batch), so a resumed run draws the same numbers.
@@ -252,22 +325,16 @@ Run::Loss Run::process_batch(torch::Tensor batch, bool training, double teacher_
   torch::Generator generator = at::detail::createCPUGenerator(mix(stream, 2));
   std::mt19937_64 rng(mix(stream, 3));
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  const double lr = options_.schedule.learning_rate_at(state_.epoch);
 
   auto step = [&](const torch::Tensor& prediction, const torch::Tensor& target) {
-    auto t0 = Clock::now();
+    const auto t0 = Clock::now();
     const torch::Tensor l = torch::l1_loss(prediction, target);
     loss.sum += l.item<double>();
     ++loss.count;
     if (training) {
       l.backward();
       timing.backward += seconds_since(t0);
-      t0 = Clock::now();
-      ++state_.step;
-      adamw_step({span_of(flat_.values), span_of(flat_.grads), span_of(flat_.exp_avg),
-                  span_of(flat_.exp_avg_sq)},
-                 options_.schedule, lr, state_.step);  // also zeroes the gradients
-      timing.optimiser += seconds_since(t0);
+      optimiser_step(timing);
     }
   };
 

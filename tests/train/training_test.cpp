@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -76,6 +77,50 @@ TEST(Training, TinyUgnetLowersItsLossWithScheduledSampling) {
   EXPECT_LT(out.history.back().train_loss, out.history.front().train_loss) << log.str();
   const nn::Ugnet runtime = nn::Ugnet::load(out.weights);
   EXPECT_EQ(runtime.architecture(), nn::UgnetArchitecture::kMoe);
+}
+
+// The MoE networks train through moe_step.h; --autograd runs the same schedule through libtorch's
+// autograd. Both must follow the same trajectory (float rounding apart) and export the same
+// weights, with UGNet's scheduled sampling feeding predictions back in the last epochs.
+void expect_same_training_as_autograd(Network network, const TrainingData& data, double tolerance) {
+  deixis::testing::ScratchDir dir;
+  TrainOptions direct = tiny_options(network, dir.path() / "direct");
+  direct.schedule.teacher_forcing_epochs = 1;
+  direct.schedule.autoregressive_from_epoch = 3;
+  TrainOptions autograd = direct;
+  autograd.out_dir = dir.path() / "autograd";
+  autograd.autograd = true;
+  std::ostringstream log;
+  const TrainOutcome a = train::train(direct, data, log);
+  const TrainOutcome b = train::train(autograd, data, log);
+  ASSERT_EQ(a.history.size(), b.history.size());
+  for (std::size_t e = 0; e < a.history.size(); ++e) {
+    EXPECT_NEAR(a.history[e].train_loss, b.history[e].train_loss,
+                tolerance * b.history[e].train_loss)
+        << "epoch " << e + 1;
+  }
+  EXPECT_NE(a.history.back().train_loss, a.history.front().train_loss);
+  const SafetensorsFile wa = SafetensorsFile::read(a.weights);
+  const SafetensorsFile wb = SafetensorsFile::read(b.weights);
+  double largest = 0, difference = 0;
+  for (const TensorInfo& t : wb.tensors()) {
+    const std::vector<float> x = wa.read_f32(t.name, t.shape), y = wb.read_f32(t.name, t.shape);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      largest = std::max(largest, static_cast<double>(std::abs(y[i])));
+      difference = std::max(difference, static_cast<double>(std::abs(x[i] - y[i])));
+    }
+  }
+  EXPECT_LT(difference, tolerance * largest);
+}
+
+TEST(Training, MpnetMoeStepTrainsAsAutogradDoes) {
+  const std::vector<Sequence> train = test_data::synthetic_sequences(20, 60, 1);
+  expect_same_training_as_autograd(Network::kMpnetMoe, {mpnet_clips(train), {}}, 1e-3);
+}
+
+TEST(Training, UgnetMoeStepTrainsAsAutogradDoes) {
+  const std::vector<Sequence> train = test_data::synthetic_sequences(12, 60, 3);
+  expect_same_training_as_autograd(Network::kUgnetMoe, {ugnet_clips(train), {}}, 1e-3);
 }
 
 TEST(Training, TinyAutoencoderLowersItsLossAndReportsItsReconstruction) {
