@@ -80,11 +80,10 @@ void add_common(CLI::App* cmd, Flags& f, const std::string& architectures) {
                   "At most N batches per epoch (timing and smoke runs)")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--restart", f.restart, "Discard an existing checkpoint in --out");
-  if (architectures.find("moe") != std::string::npos) {
-    cmd->add_flag("--autograd", f.autograd,
-                  "MoE: run the network through libtorch's autograd instead of the direct step "
-                  "(gesture/train/moe_step.h; the same maths, slower; for comparison)");
-  }
+  cmd->add_flag("--autograd", f.autograd,
+                "Run MoE networks and the autoencoder through libtorch's autograd instead of "
+                "their direct step (gesture/train/moe_step.h, autoencoder_step.h: the same maths, "
+                "faster); for comparison. The other architectures always use autograd");
   cmd->add_option("--export-to", f.export_to,
                   "Train nothing: write the weights and manifest of --out's checkpoint (a run in "
                   "progress or a finished one) into this directory; the manifest says where the "

@@ -393,26 +393,44 @@ std::string shape_of(const torch::Tensor& t) {
 
 }  // namespace
 
-MoeBuffers moe_buffers(TrainableNetwork& network, bool gradients) {
-  std::map<std::string, float*> memory;
-  for (const auto& item : network.named_parameters()) {
-    const torch::Tensor t = gradients ? item.value().grad() : item.value();
-    const std::string what = gradients ? "the gradient of '" + item.key() + "'" : item.key();
-    if (!t.defined()) {
-      throw Error("moe_buffers: " + what + " is not defined");
+namespace {
+
+// Every parameter's memory (or its gradient's) by state_dict name, for the direct steps.
+class TensorMemory {
+ public:
+  TensorMemory(TrainableNetwork& network, bool gradients, std::string network_kind)
+      : kind_(std::move(network_kind)) {
+    for (const auto& item : network.named_parameters()) {
+      const torch::Tensor t = gradients ? item.value().grad() : item.value();
+      const std::string what = gradients ? "the gradient of '" + item.key() + "'" : item.key();
+      if (!t.defined()) {
+        throw Error("direct training step: " + what + " is not defined");
+      }
+      if (!t.is_contiguous() || t.scalar_type() != torch::kFloat32) {
+        throw Error("direct training step: " + what + " is not a contiguous float32 tensor");
+      }
+      memory_[item.key()] = t.data_ptr<float>();
     }
-    if (!t.is_contiguous() || t.scalar_type() != torch::kFloat32) {
-      throw Error("moe_buffers: " + what + " is not a contiguous float32 tensor");
-    }
-    memory[item.key()] = t.data_ptr<float>();
   }
-  auto find = [&](const std::string& name) {
-    const auto it = memory.find(name);
-    if (it == memory.end()) {
-      throw Error("moe_buffers: the network has no tensor '" + name + "' (not a MoE network)");
+  bool has(const std::string& name) const { return memory_.count(name) > 0; }
+  float* operator()(const std::string& name) const {
+    const auto it = memory_.find(name);
+    if (it == memory_.end()) {
+      throw Error("direct training step: the network has no tensor '" + name + "' (not " + kind_ +
+                  ")");
     }
     return it->second;
-  };
+  }
+
+ private:
+  std::string kind_;
+  std::map<std::string, float*> memory_;
+};
+
+}  // namespace
+
+MoeBuffers moe_buffers(TrainableNetwork& network, bool gradients) {
+  const TensorMemory find(network, gradients, "a MoE network");
   auto gru = [&](const std::string& prefix, int layer) {
     const std::string k = "_l" + std::to_string(layer);
     return GruLayerBuffers{find(prefix + "weight_ih" + k), find(prefix + "weight_hh" + k),
@@ -421,12 +439,23 @@ MoeBuffers moe_buffers(TrainableNetwork& network, bool gradients) {
   MoeBuffers b;
   b.gating[0] = gru("gating_network.gru.", 0);
   b.gating[1] = gru("gating_network.gru.", 1);
-  if (memory.count("gru.weight_ih_l0") > 0) {
+  if (find.has("gru.weight_ih_l0")) {
     b.encoder = gru("gru.", 0);
   }
   for (int l = 0; l < 3; ++l) {
     b.expert_weights[l] = find("moe_network.w_l" + std::to_string(l + 1));
     b.expert_biases[l] = find("moe_network.b_l" + std::to_string(l + 1));
+  }
+  return b;
+}
+
+AutoencoderBuffers autoencoder_buffers(TrainableNetwork& network, bool gradients) {
+  const TensorMemory find(network, gradients, "the FMD autoencoder");
+  AutoencoderBuffers b;
+  const char* layers[4] = {"conv_encode1", "conv_encode2", "conv_decode2", "conv_decode1"};
+  for (int i = 0; i < 4; ++i) {
+    b.weight[i] = find(std::string(layers[i]) + ".weight");
+    b.bias[i] = find(std::string(layers[i]) + ".bias");
   }
   return b;
 }

@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "gesture/io/safetensors.h"
+#include "gesture/train/autoencoder_step.h"
 #include "gesture/train/moe_step.h"
 #include "gesture/train/network_kind.h"
 
@@ -50,6 +51,8 @@ torch::Tensor motion_codes(TrainableNetwork& autoencoder, const torch::Tensor& s
 // parameters' own memory, or with `gradients` the memory of their .grad() tensors, which must be
 // defined. Throws naming the tensor when one is missing, not contiguous or not float32.
 MoeBuffers moe_buffers(TrainableNetwork& network, bool gradients);
+// The same for the FMD autoencoder (autoencoder_step.h).
+AutoencoderBuffers autoencoder_buffers(TrainableNetwork& network, bool gradients);
 
 // Copies every parameter and buffer from a safetensors file. Errors name the file and tensor:
 // a missing or unexpected tensor, a wrong shape or dtype, a non-finite value.

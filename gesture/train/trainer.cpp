@@ -151,9 +151,12 @@ class Run {
   Family family_;
   std::shared_ptr<TrainableNetwork> model_;
   FlatParameters flat_;
-  // MPNet(MoE) and UGNet(MoE) train through moe_step.h on the flat buffers' memory.
+  // MPNet(MoE) and UGNet(MoE) train through moe_step.h, the autoencoder through
+  // autoencoder_step.h, on the flat buffers' memory.
   std::optional<MoeStep> moe_;
   MoeBuffers moe_parameters_, moe_gradients_;
+  std::optional<AutoencoderStep> autoencoder_;
+  AutoencoderBuffers autoencoder_parameters_, autoencoder_gradients_;
   Checkpoint state_;
   Clock::time_point last_save_ = Clock::now();
   Clock::time_point segment_start_ = Clock::now();  // since state_ times were last updated
@@ -213,6 +216,11 @@ void Run::resume_or_start() {
     moe_.emplace(shape, options_.schedule.batch_size);
     moe_parameters_ = moe_buffers(*model_, false);
     moe_gradients_ = moe_buffers(*model_, true);
+  }
+  if (options_.network == Network::kMotionAutoencoder && !options_.autograd) {
+    autoencoder_.emplace(options_.schedule.batch_size);
+    autoencoder_parameters_ = autoencoder_buffers(*model_, false);
+    autoencoder_gradients_ = autoencoder_buffers(*model_, true);
   }
   state_.fingerprint = fingerprint();
   if (options_.restart || !std::filesystem::exists(checkpoint_path_)) {
@@ -338,6 +346,20 @@ Run::Loss Run::process_batch(torch::Tensor batch, bool training, double teacher_
     }
   };
 
+  if (autoencoder_) {
+    auto t0 = Clock::now();
+    loss.sum += autoencoder_->forward(autoencoder_parameters_, batch.data_ptr<float>(),
+                                      static_cast<int>(batch.size(0)));
+    ++loss.count;
+    timing.forward += seconds_since(t0);
+    if (training) {
+      t0 = Clock::now();
+      autoencoder_->backward(autoencoder_parameters_, autoencoder_gradients_);
+      timing.backward += seconds_since(t0);
+      optimiser_step(timing);
+    }
+    return loss;
+  }
   if (family_ == Family::kMotionAutoencoder) {
     const auto t0 = Clock::now();
     const torch::Tensor reconstruction = model_->forward(batch);

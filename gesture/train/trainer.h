@@ -34,8 +34,9 @@ struct TrainOptions {
   std::int64_t checkpoint_batches = 0;  // > 0: also every that many batches (tests)
   bool restart = false;                 // ignore an existing checkpoint
   std::int64_t max_batches = 0;         // > 0: at most that many batches per epoch (timing)
-  // The MoE networks run through moe_step.h unless this asks for libtorch's autograd (the same
-  // maths, slower; for comparison and measurement).
+  // The MoE networks and the autoencoder run through their direct steps (moe_step.h,
+  // autoencoder_step.h) unless this asks for libtorch's autograd (the same maths, slower; for
+  // comparison and measurement).
   bool autograd = false;
   // Non-empty: train nothing; write the weights and manifest of out_dir's checkpoint (a run in
   // progress, or a finished one) into this directory. The checkpoint is only read.

@@ -98,6 +98,11 @@ void expect_same_training_as_autograd(Network network, const TrainingData& data,
     EXPECT_NEAR(a.history[e].train_loss, b.history[e].train_loss,
                 tolerance * b.history[e].train_loss)
         << "epoch " << e + 1;
+    if (!std::isnan(b.history[e].validation_loss)) {
+      EXPECT_NEAR(a.history[e].validation_loss, b.history[e].validation_loss,
+                  tolerance * b.history[e].validation_loss)
+          << "epoch " << e + 1;
+    }
   }
   EXPECT_NE(a.history.back().train_loss, a.history.front().train_loss);
   const SafetensorsFile wa = SafetensorsFile::read(a.weights);
@@ -121,6 +126,13 @@ TEST(Training, MpnetMoeStepTrainsAsAutogradDoes) {
 TEST(Training, UgnetMoeStepTrainsAsAutogradDoes) {
   const std::vector<Sequence> train = test_data::synthetic_sequences(12, 60, 3);
   expect_same_training_as_autograd(Network::kUgnetMoe, {ugnet_clips(train), {}}, 1e-3);
+}
+
+TEST(Training, AutoencoderStepTrainsAsAutogradDoes) {
+  const std::vector<Sequence> train = test_data::synthetic_sequences(6, 60, 5);
+  const std::vector<Sequence> validation = test_data::synthetic_sequences(2, 50, 6);
+  expect_same_training_as_autograd(Network::kMotionAutoencoder,
+                                   {motion_segments(train), motion_segments(validation)}, 1e-3);
 }
 
 TEST(Training, TinyAutoencoderLowersItsLossAndReportsItsReconstruction) {
