@@ -29,17 +29,35 @@ std::size_t tap(int channel, int kernel, int k) {
 
 }  // namespace
 
+AutoencoderStep::LayerShape AutoencoderStep::layer_shape(int i) {
+  // conv_encode1, conv_encode2, conv_decode2, conv_decode1.
+  static constexpr LayerShape kLayers[4] = {{false, kFrames, 16, kChannels, 256, 15},
+                                            {false, 16, 1, 256, 128, 16},
+                                            {true, 1, 16, 128, 256, 16},
+                                            {true, 16, kFrames, 256, kChannels, 15}};
+  if (i < 0 || i > 3) {
+    throw Error("AutoencoderStep: there is no layer " + std::to_string(i));
+  }
+  return kLayers[i];
+}
+
+std::size_t AutoencoderStep::parameter_count() {
+  std::size_t n = 0;
+  for (int i = 0; i < 4; ++i) {
+    const LayerShape l = layer_shape(i);
+    n += size(l.in_channels, l.out_channels, l.kernel) + size(l.out_channels);
+  }
+  return n;
+}
+
 AutoencoderStep::AutoencoderStep(int max_batch) : max_batch_(max_batch) {
   if (max_batch < 1) {
     throw Error("AutoencoderStep: the batch must hold at least one segment");
   }
-  // conv_encode1, conv_encode2, conv_decode2, conv_decode1.
-  layers_[0] = {false, kFrames, 16, kChannels, 256, 15, {}, {}};
-  layers_[1] = {false, 16, 1, 256, 128, 16, {}, {}};
-  layers_[2] = {true, 1, 16, 128, 256, 16, {}, {}};
-  layers_[3] = {true, 16, kFrames, 256, kChannels, 15, {}, {}};
   std::size_t widest_columns = 0, widest_frames = 0;
-  for (Layer& l : layers_) {
+  for (int i = 0; i < 4; ++i) {
+    Layer& l = layers_[i];
+    static_cast<LayerShape&>(l) = layer_shape(i);
     const std::size_t columns = l.transposed
                                     ? size(max_batch, l.in_frames, l.out_channels, l.kernel)
                                     : size(max_batch, l.out_frames, l.in_channels, l.kernel);

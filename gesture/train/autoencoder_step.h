@@ -6,8 +6,9 @@
 // Why: 600 epochs of 4,595 steps with batches of 8 segments are 2.76 M optimiser steps per hand;
 // even as matrix products inside libtorch (conv_as_matmul.h) a step cost ≈ 5 ms, two thirds of it
 // per-operation overhead and copies around ≈ 1.5 ms of arithmetic (docs/training.md). Here each
-// layer is one unfold or fold pass and one matrix product on buffers allocated once, and the
-// gradients go straight into the trainer's flat gradient buffer.
+// layer is one unfold or fold pass and one matrix product on buffers allocated once (Eigen's
+// products take their packing workspace from the heap), and the gradients go straight into the
+// trainer's flat gradient buffer.
 //
 //   x [batch, 30, 18] (time-major, as the segments are stored)
 //   h₁ = ReLU(Conv1d(x; W₁ [256, 18, 15]))            [batch, 16, 256]
@@ -21,7 +22,8 @@
 
 #include <cstddef>
 #include <span>
-#include <vector>
+
+#include "gesture/train/aligned_buffer.h"
 
 namespace deixis::train {
 
@@ -36,6 +38,14 @@ class AutoencoderStep {
   static constexpr int kFrames = 30;
   static constexpr int kChannels = 18;
 
+  // Layer i (0 = conv_encode1 … 3 = conv_decode1): frames in and out, channels, kernel.
+  struct LayerShape {
+    bool transposed = false;
+    int in_frames = 0, out_frames = 0, in_channels = 0, out_channels = 0, kernel = 0;
+  };
+  static LayerShape layer_shape(int i);
+  static std::size_t parameter_count();
+
   explicit AutoencoderStep(int max_batch);
 
   // Forward pass of `count` ≤ max_batch segments ([count, 30, 18], contiguous); returns the L1
@@ -48,12 +58,10 @@ class AutoencoderStep {
   std::span<const float> reconstruction() const;
 
  private:
-  // One layer: its input frames, output frames, channels and kernel, and its buffers.
-  struct Layer {
-    bool transposed = false;
-    int in_frames = 0, out_frames = 0, in_channels = 0, out_channels = 0, kernel = 0;
-    std::vector<float> columns;  // Conv1d: the unfolded input; transposed: the products
-    std::vector<float> output;   // [batch, out_frames, out_channels], after the ReLU if any
+  // One layer: its shape and its buffers.
+  struct Layer : LayerShape {
+    AlignedFloats columns;  // Conv1d: the unfolded input; transposed: the products
+    AlignedFloats output;   // [batch, out_frames, out_channels], after the ReLU if any
   };
 
   void layer_forward(Layer& layer, const float* input, const float* weight, const float* bias,
@@ -66,9 +74,9 @@ class AutoencoderStep {
   int batch_ = 0;
   const float* segments_ = nullptr;
   Layer layers_[4];
-  std::vector<float> d_output_;  // the gradient flowing back, [batch, frames, channels]
-  std::vector<float> d_input_;
-  std::vector<float> d_columns_;
+  AlignedFloats d_output_;  // the gradient flowing back, [batch, frames, channels]
+  AlignedFloats d_input_;
+  AlignedFloats d_columns_;
 };
 
 }  // namespace deixis::train

@@ -409,42 +409,60 @@ class TensorMemory {
       if (!t.is_contiguous() || t.scalar_type() != torch::kFloat32) {
         throw Error("direct training step: " + what + " is not a contiguous float32 tensor");
       }
-      memory_[item.key()] = t.data_ptr<float>();
+      tensors_[item.key()] = {t.data_ptr<float>(), t.numel()};
     }
   }
-  bool has(const std::string& name) const { return memory_.count(name) > 0; }
-  float* operator()(const std::string& name) const {
-    const auto it = memory_.find(name);
-    if (it == memory_.end()) {
+  bool has(const std::string& name) const { return tensors_.count(name) > 0; }
+  // The tensor's memory, which must hold `values` floats (the shape the direct step assumes).
+  float* operator()(const std::string& name, std::int64_t values) const {
+    const auto it = tensors_.find(name);
+    if (it == tensors_.end()) {
       throw Error("direct training step: the network has no tensor '" + name + "' (not " + kind_ +
                   ")");
     }
-    return it->second;
+    if (it->second.values != values) {
+      throw Error("direct training step: tensor '" + name + "' has " +
+                  std::to_string(it->second.values) + " values, the step expects " +
+                  std::to_string(values));
+    }
+    return it->second.memory;
   }
 
  private:
+  struct Tensor {
+    float* memory;
+    std::int64_t values;
+  };
   std::string kind_;
-  std::map<std::string, float*> memory_;
+  std::map<std::string, Tensor> tensors_;
 };
 
 }  // namespace
 
 MoeBuffers moe_buffers(TrainableNetwork& network, bool gradients) {
   const TensorMemory find(network, gradients, "a MoE network");
-  auto gru = [&](const std::string& prefix, int layer) {
+  const bool mpnet = find.has("gru.weight_ih_l0");
+  const MoeShape shape = mpnet ? MoeShape::mpnet() : MoeShape::ugnet();
+  auto gru = [&](const std::string& prefix, int layer, std::int64_t in, std::int64_t hidden) {
     const std::string k = "_l" + std::to_string(layer);
-    return GruLayerBuffers{find(prefix + "weight_ih" + k), find(prefix + "weight_hh" + k),
-                           find(prefix + "bias_ih" + k), find(prefix + "bias_hh" + k)};
+    return GruLayerBuffers{find(prefix + "weight_ih" + k, 3 * hidden * in),
+                           find(prefix + "weight_hh" + k, 3 * hidden * hidden),
+                           find(prefix + "bias_ih" + k, 3 * hidden),
+                           find(prefix + "bias_hh" + k, 3 * hidden)};
   };
+  const std::int64_t experts = MoeStep::kExperts;
   MoeBuffers b;
-  b.gating[0] = gru("gating_network.gru.", 0);
-  b.gating[1] = gru("gating_network.gru.", 1);
-  if (find.has("gru.weight_ih_l0")) {
-    b.encoder = gru("gru.", 0);
+  b.gating[0] = gru("gating_network.gru.", 0, shape.gating_columns, experts);
+  b.gating[1] = gru("gating_network.gru.", 1, experts, experts);
+  if (mpnet) {
+    b.encoder = gru("gru.", 0, shape.window_columns, shape.encoder_hidden);
   }
+  const std::int64_t dims[4] = {shape.expert_in, shape.expert_hidden, shape.expert_hidden,
+                                shape.expert_out};
   for (int l = 0; l < 3; ++l) {
-    b.expert_weights[l] = find("moe_network.w_l" + std::to_string(l + 1));
-    b.expert_biases[l] = find("moe_network.b_l" + std::to_string(l + 1));
+    b.expert_weights[l] =
+        find("moe_network.w_l" + std::to_string(l + 1), experts * dims[l] * dims[l + 1]);
+    b.expert_biases[l] = find("moe_network.b_l" + std::to_string(l + 1), experts * dims[l + 1]);
   }
   return b;
 }
@@ -454,8 +472,10 @@ AutoencoderBuffers autoencoder_buffers(TrainableNetwork& network, bool gradients
   AutoencoderBuffers b;
   const char* layers[4] = {"conv_encode1", "conv_encode2", "conv_decode2", "conv_decode1"};
   for (int i = 0; i < 4; ++i) {
-    b.weight[i] = find(std::string(layers[i]) + ".weight");
-    b.bias[i] = find(std::string(layers[i]) + ".bias");
+    const AutoencoderStep::LayerShape l = AutoencoderStep::layer_shape(i);
+    b.weight[i] = find(std::string(layers[i]) + ".weight",
+                       std::int64_t{l.in_channels} * l.out_channels * l.kernel);
+    b.bias[i] = find(std::string(layers[i]) + ".bias", l.out_channels);
   }
   return b;
 }

@@ -112,7 +112,8 @@ void lane_product(float* out, std::size_t out_stride, const float* bias, Weights
   }
 }
 
-// ELU (α = 1) and its derivative written through its output a: 1 where a > 0, a + 1 elsewhere.
+// ELU (α = 1). Its derivative is taken from the output a in experts_backward: 1 where a > 0,
+// a + 1 elsewhere.
 void elu(const float* u, float* a, std::size_t n) {
   const ConstArrayMap in(u, static_cast<Eigen::Index>(n));
   ArrayMap(a, static_cast<Eigen::Index>(n)) = (in > 0.0f).select(in, in.exp() - 1.0f);
@@ -195,11 +196,11 @@ MoeStep::MoeStep(const MoeShape& shape, int max_batch) : shape_(shape), max_batc
   d_omega_.resize(size(max_batch, kExperts));
   output_.resize(size(max_batch, shape.expert_out));
   d_output_.resize(size(max_batch, shape.expert_out));
-  // The GRUs' per-step temporaries (6 blocks of 3·hidden × lanes) and the experts' (three blocks
-  // of batch × the widest layer).
+  // Per-step temporaries: a GRU's forward needs 7 and its backward 6 blocks of hidden × lanes,
+  // experts_backward three blocks of batch × the widest layer.
   const int widest_gru = std::max(kExperts, shape.encoder_hidden);
   const int widest_layer = std::max(shape.expert_in, shape.expert_hidden);
-  scratch_.resize(std::max(size(6, 3 * widest_gru, lanes), size(3, max_batch, widest_layer)));
+  scratch_.resize(std::max(size(7, widest_gru, lanes), size(3, max_batch, widest_layer)));
 }
 
 std::span<const float> MoeStep::prediction() const {

@@ -8,8 +8,10 @@
 // autograd nodes, fresh gradient tensors, ~40 small operations around the fused GRU and expert
 // nodes) was a large share of it: MPNet 0.68 ms and UGNet 1.95 ms per step for 5.5 M and 4.1 M
 // steps per run (docs/training.md). Here a step is straight-line code over buffers allocated
-// once, the GRUs keep the batch innermost (every loop is a vector pass over 16 or 32 clips),
-// and the gradients are written straight into the trainer's flat gradient buffer.
+// once (only Eigen's larger products take their packing workspace from the heap, which glibc
+// serves from its free lists), the GRUs keep the batch innermost (every loop is a vector pass
+// over 16 or 32 clips), and the gradients are written straight into the trainer's flat gradient
+// buffer.
 //
 // The maths is the libtorch models' (gesture/train/models.cpp), term for term:
 //   gating:  ω = softmax(GRU₂(GRU₁(window[:, :, gating columns]))[:, −1])   (hidden = 9 experts)
@@ -21,7 +23,8 @@
 
 #include <cstddef>
 #include <span>
-#include <vector>
+
+#include "gesture/train/aligned_buffer.h"
 
 namespace deixis::train {
 
@@ -91,18 +94,18 @@ class MoeStep {
   // A GRU layer's sequences keep the batch innermost ("lanes", padded with zero clips).
   struct GruLayerState {
     int input = 0, hidden = 0;
-    std::vector<float> input_sequence;  // [input][time][lanes]
-    std::vector<float> output;          // [hidden][time][lanes]
-    std::vector<float> gates;           // [time][r, z, n, W_hn·h + b_hn][hidden][lanes]
-    std::vector<float> d_output;        // ∂L/∂output, [hidden][time][lanes]
-    std::vector<float> d_input_gates;   // [3·hidden][time][lanes]
-    std::vector<float> d_hidden_gates;  // [3·hidden][time][lanes]
+    AlignedFloats input_sequence;  // [input][time][lanes]
+    AlignedFloats output;          // [hidden][time][lanes]
+    AlignedFloats gates;           // [time][r, z, n, W_hn·h + b_hn][hidden][lanes]
+    AlignedFloats d_output;        // ∂L/∂output, [hidden][time][lanes]
+    AlignedFloats d_input_gates;   // [3·hidden][time][lanes]
+    AlignedFloats d_hidden_gates;  // [3·hidden][time][lanes]
   };
   struct ExpertLayerState {
     int in = 0, out = 0;
-    std::vector<float> input;     // a_{l−1}, [batch][in]
-    std::vector<float> products;  // a_{l−1}·W_e + b_e, [experts][batch][out]
-    std::vector<float> blended;   // u_l, [batch][out]
+    AlignedFloats input;     // a_{l−1}, [batch][in]
+    AlignedFloats products;  // a_{l−1}·W_e + b_e, [experts][batch][out]
+    AlignedFloats blended;   // u_l, [batch][out]
   };
 
   void gru_forward(GruLayerState& layer, const GruLayerBuffers& p);
@@ -118,11 +121,11 @@ class MoeStep {
   GruLayerState gating_[2];
   GruLayerState encoder_;
   ExpertLayerState experts_[3];
-  std::vector<float> omega_;     // [batch][experts]
-  std::vector<float> d_omega_;   // [batch][experts]
-  std::vector<float> output_;    // [batch][out], clamped for MPNet
-  std::vector<float> d_output_;  // ∂L/∂u₃, [batch][out]
-  std::vector<float> scratch_;   // per-step temporaries of the GRUs
+  AlignedFloats omega_;     // [batch][experts]
+  AlignedFloats d_omega_;   // [batch][experts]
+  AlignedFloats output_;    // [batch][out], clamped for MPNet
+  AlignedFloats d_output_;  // ∂L/∂u₃, [batch][out]
+  AlignedFloats scratch_;   // per-step temporaries of the GRUs and experts_backward
 };
 
 }  // namespace deixis::train

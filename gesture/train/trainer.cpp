@@ -4,9 +4,10 @@
 // window's prediction with probability 1 − P (scheduled sampling).
 //
 // Speed on 2 CPU cores comes from removing per-operation overhead, not from changing the
-// schedule: GRUs are one autograd node per layer (fused_gru.h), all parameters live in one flat
-// buffer so that AdamW is one loop over memory, and the data are gathered into one tensor per
-// batch.
+// schedule: the MoE networks and the autoencoder train through direct steps without autograd
+// (moe_step.h, autoencoder_step.h), the other architectures through fused autograd nodes
+// (fused_gru.h, fused_experts.h, fused_transformer.h); all parameters live in one flat buffer so
+// that AdamW is one loop over memory, and the data are gathered into one tensor per batch.
 
 #include "gesture/train/trainer.h"
 
@@ -218,6 +219,11 @@ void Run::resume_or_start() {
     moe_gradients_ = moe_buffers(*model_, true);
   }
   if (options_.network == Network::kMotionAutoencoder && !options_.autograd) {
+    if (AutoencoderStep::parameter_count() != static_cast<std::size_t>(flat_.numel)) {
+      throw Error("the autoencoder step expects " +
+                  std::to_string(AutoencoderStep::parameter_count()) +
+                  " parameters, the network has " + std::to_string(flat_.numel));
+    }
     autoencoder_.emplace(options_.schedule.batch_size);
     autoencoder_parameters_ = autoencoder_buffers(*model_, false);
     autoencoder_gradients_ = autoencoder_buffers(*model_, true);
@@ -327,6 +333,21 @@ Run::Loss Run::process_batch(torch::Tensor batch, bool training, double teacher_
     return process_batch_moe(batch, training, teacher_forcing, stream, timing);
   }
   Loss loss;
+  if (autoencoder_) {
+    auto t0 = Clock::now();
+    loss.sum += autoencoder_->forward(autoencoder_parameters_, batch.data_ptr<float>(),
+                                      static_cast<int>(batch.size(0)));
+    ++loss.count;
+    timing.forward += seconds_since(t0);
+    if (training) {
+      t0 = Clock::now();
+      autoencoder_->backward(autoencoder_parameters_, autoencoder_gradients_);
+      timing.backward += seconds_since(t0);
+      optimiser_step(timing);
+    }
+    return loss;
+  }
+
   // Dropout (Transformers) draws from the global generator, the diffusion noise from its own:
   // both are seeded from (seed, epoch, batch), so a resumed run draws the same numbers.
   torch::manual_seed(mix(stream, 1));
@@ -346,20 +367,6 @@ Run::Loss Run::process_batch(torch::Tensor batch, bool training, double teacher_
     }
   };
 
-  if (autoencoder_) {
-    auto t0 = Clock::now();
-    loss.sum += autoencoder_->forward(autoencoder_parameters_, batch.data_ptr<float>(),
-                                      static_cast<int>(batch.size(0)));
-    ++loss.count;
-    timing.forward += seconds_since(t0);
-    if (training) {
-      t0 = Clock::now();
-      autoencoder_->backward(autoencoder_parameters_, autoencoder_gradients_);
-      timing.backward += seconds_since(t0);
-      optimiser_step(timing);
-    }
-    return loss;
-  }
   if (family_ == Family::kMotionAutoencoder) {
     const auto t0 = Clock::now();
     const torch::Tensor reconstruction = model_->forward(batch);

@@ -88,15 +88,21 @@ TEST(AutoencoderStep, BothReluBranchesAreExercised) {
   torch::manual_seed(3);
   std::shared_ptr<TrainableNetwork> model = make_network(Network::kMotionAutoencoder);
   const torch::Tensor segments = torch::randn({8, 30, 18});
-  AutoencoderStep step(8);
-  step.forward(autoencoder_buffers(*model, false), segments.data_ptr<float>(), 8);
-  // The encoder's hidden layer: Conv1d then ReLU, computed here with libtorch.
-  const auto params = model->named_parameters();
-  const torch::Tensor hidden = torch::conv1d(
+  auto params = model->named_parameters();
+  torch::NoGradGuard no_grad;
+  // The encoder's hidden layer and the decoder's, before their ReLUs, with libtorch's own
+  // convolutions (channels first).
+  const torch::Tensor encoded = torch::conv1d(
       segments.transpose(1, 2), params["conv_encode1.weight"], params["conv_encode1.bias"]);
-  const auto positive = (hidden > 0).sum().item<std::int64_t>();
-  EXPECT_GT(positive, 0);
-  EXPECT_LT(positive, hidden.numel());
+  const torch::Tensor code = torch::conv1d(torch::relu(encoded), params["conv_encode2.weight"],
+                                           params["conv_encode2.bias"]);
+  const torch::Tensor decoded =
+      torch::conv_transpose1d(code, params["conv_decode2.weight"], params["conv_decode2.bias"]);
+  for (const torch::Tensor& hidden : {encoded, decoded}) {
+    const auto positive = (hidden > 0).sum().item<std::int64_t>();
+    EXPECT_GT(positive, 0);
+    EXPECT_LT(positive, hidden.numel());
+  }
 }
 
 TEST(AutoencoderStep, RefusesBatchesItCannotHold) {

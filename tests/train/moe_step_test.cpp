@@ -1,7 +1,7 @@
 // The MoE networks' direct training step (gesture/train/moe_step.h) is libtorch's autograd
 // through the training models (gesture/train/models.cpp): the same loss, the same prediction and
 // the same gradient for every parameter, at MPNet's and UGNet's sizes, for full and partial
-// batches, with MPNet's clamp and both sides of the ELUs exercised.
+// batches, with MPNet's clamp cutting some outputs and passing others.
 
 #include "gesture/train/moe_step.h"
 
@@ -129,10 +129,11 @@ TEST(MoeStep, UgnetMatchesAutograd) {
   expect_same(ugnet_case(), 32, 32, 7);
 }
 
-// Validation's last batch is smaller than the buffers.
+// Validation's last batch is smaller than the buffers; 20 windows are three vectors of lanes.
 TEST(MoeStep, PartialBatchesMatchAutograd) {
   expect_same(mpnet_case(), 5, 16, 15);
   expect_same(ugnet_case(), 11, 32, 15);
+  expect_same(ugnet_case(), 20, 32, 3);
 }
 
 // The clips are wide enough that MPNet's clamp cuts some outputs (its gradient is then 0 there)

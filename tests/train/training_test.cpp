@@ -79,12 +79,18 @@ TEST(Training, TinyUgnetLowersItsLossWithScheduledSampling) {
   EXPECT_EQ(runtime.architecture(), nn::UgnetArchitecture::kMoe);
 }
 
-// The MoE networks train through moe_step.h; --autograd runs the same schedule through libtorch's
-// autograd. Both must follow the same trajectory (float rounding apart) and export the same
-// weights, with UGNet's scheduled sampling feeding predictions back in the last epochs.
+// The MoE networks and the autoencoder train through direct steps (moe_step.h,
+// autoencoder_step.h); --autograd runs the same schedule through libtorch's autograd. Both must
+// follow the same trajectory and export the same weights, with UGNet's scheduled sampling feeding
+// predictions back in the last two epochs. The first epoch must agree to 1e-5; after it, float
+// rounding (a different order of additions) grows as any two training runs' do, fastest for
+// MPNet, whose clamp and L1 loss switch on signs, so later epochs get `tolerance`.
 void expect_same_training_as_autograd(Network network, const TrainingData& data, double tolerance) {
   deixis::testing::ScratchDir dir;
   TrainOptions direct = tiny_options(network, dir.path() / "direct");
+  if (network == Network::kMotionAutoencoder) {
+    direct.schedule.batch_size = 3;  // the validation's last batch is then partial
+  }
   direct.schedule.teacher_forcing_epochs = 1;
   direct.schedule.autoregressive_from_epoch = 3;
   TrainOptions autograd = direct;
@@ -95,12 +101,12 @@ void expect_same_training_as_autograd(Network network, const TrainingData& data,
   const TrainOutcome b = train::train(autograd, data, log);
   ASSERT_EQ(a.history.size(), b.history.size());
   for (std::size_t e = 0; e < a.history.size(); ++e) {
-    EXPECT_NEAR(a.history[e].train_loss, b.history[e].train_loss,
-                tolerance * b.history[e].train_loss)
+    const double within = e == 0 ? 1e-5 : tolerance;
+    EXPECT_NEAR(a.history[e].train_loss, b.history[e].train_loss, within * b.history[e].train_loss)
         << "epoch " << e + 1;
-    if (!std::isnan(b.history[e].validation_loss)) {
+    if (!data.validation.values.empty()) {
       EXPECT_NEAR(a.history[e].validation_loss, b.history[e].validation_loss,
-                  tolerance * b.history[e].validation_loss)
+                  within * b.history[e].validation_loss)
           << "epoch " << e + 1;
     }
   }
@@ -115,24 +121,32 @@ void expect_same_training_as_autograd(Network network, const TrainingData& data,
       difference = std::max(difference, static_cast<double>(std::abs(x[i] - y[i])));
     }
   }
-  EXPECT_LT(difference, tolerance * largest);
+  // Adam moves a parameter whose gradient is mostly rounding noise by up to the learning rate per
+  // step, either way: the weights are compared at 1e-3 of the largest at least.
+  EXPECT_LT(difference, std::max(tolerance, 1e-3) * largest);
 }
 
+// The validation sets' clip counts are not multiples of the batch of 8 (asserted), so the last
+// validation batch of every epoch is a partial one.
 TEST(Training, MpnetMoeStepTrainsAsAutogradDoes) {
   const std::vector<Sequence> train = test_data::synthetic_sequences(20, 60, 1);
-  expect_same_training_as_autograd(Network::kMpnetMoe, {mpnet_clips(train), {}}, 1e-3);
+  const ExampleSet validation = mpnet_clips(test_data::synthetic_sequences(3, 61, 2));
+  ASSERT_NE(validation.count % 8, 0u);
+  expect_same_training_as_autograd(Network::kMpnetMoe, {mpnet_clips(train), validation}, 1e-2);
 }
 
 TEST(Training, UgnetMoeStepTrainsAsAutogradDoes) {
   const std::vector<Sequence> train = test_data::synthetic_sequences(12, 60, 3);
-  expect_same_training_as_autograd(Network::kUgnetMoe, {ugnet_clips(train), {}}, 1e-3);
+  const ExampleSet validation = ugnet_clips(test_data::synthetic_sequences(3, 61, 4));
+  ASSERT_NE(validation.count % 8, 0u);
+  expect_same_training_as_autograd(Network::kUgnetMoe, {ugnet_clips(train), validation}, 1e-4);
 }
 
 TEST(Training, AutoencoderStepTrainsAsAutogradDoes) {
   const std::vector<Sequence> train = test_data::synthetic_sequences(6, 60, 5);
   const std::vector<Sequence> validation = test_data::synthetic_sequences(2, 50, 6);
   expect_same_training_as_autograd(Network::kMotionAutoencoder,
-                                   {motion_segments(train), motion_segments(validation)}, 1e-3);
+                                   {motion_segments(train), motion_segments(validation)}, 1e-4);
 }
 
 TEST(Training, TinyAutoencoderLowersItsLossAndReportsItsReconstruction) {
