@@ -20,13 +20,20 @@ std::filesystem::path default_reference_dir() {
   return "../shared/reference";
 }
 
-// The authors' MoE weights (right/ and left/): the project's own once it ships them in
-// assets/weights/, else $DEIXIS_REFERENCE_DIR/weights, else ../shared/reference/weights next to
-// the repository.
+// The MoE weights (right/ and left/): the project's own in assets/weights/ once all four
+// networks are there, else the authors' in $DEIXIS_REFERENCE_DIR/weights, else
+// ../shared/reference/weights next to the repository.
 std::filesystem::path default_weights_dir() {
   const std::filesystem::path source = DEIXIS_SOURCE_DIR;
-  if (std::filesystem::exists(source / "assets/weights/right/MPNet(MoE)(AC)80.safetensors")) {
-    return source / "assets/weights";
+  const std::filesystem::path own = source / "assets/weights";
+  bool complete = true;
+  for (const char* hand : {"right", "left"}) {
+    for (const char* file : {"MPNet(MoE)(AC)80.safetensors", "UGNet(MoE)(AC)120.safetensors"}) {
+      complete = complete && std::filesystem::exists(own / hand / file);
+    }
+  }
+  if (complete) {
+    return own;
   }
   if (const char* env = std::getenv("DEIXIS_REFERENCE_DIR")) {
     return std::filesystem::path(env) / "weights";
