@@ -179,10 +179,18 @@ void AutoencoderStep::layer_backward(Layer& l, const float* input, const float* 
   }
 }
 
-double AutoencoderStep::forward(const AutoencoderBuffers& p, const float* segments, int count) {
+double AutoencoderStep::forward(const AutoencoderBuffers& p, const float* segments, int count,
+                                int whole_batch) {
   if (count < 1 || count > max_batch_) {
     throw Error("AutoencoderStep: " + std::to_string(count) + " segments, the buffers hold 1 to " +
                 std::to_string(max_batch_));
+  }
+  if (whole_batch == 0) {
+    whole_batch = count;
+  }
+  if (whole_batch < count) {
+    throw Error("AutoencoderStep: a slice of " + std::to_string(count) +
+                " segments of a batch of " + std::to_string(whole_batch));
   }
   batch_ = count;
   segments_ = segments;
@@ -193,14 +201,14 @@ double AutoencoderStep::forward(const AutoencoderBuffers& p, const float* segmen
   }
   // L1 loss against the input and its gradient (torch: mean |y − x|, sgn(0) = 0).
   const std::size_t n = size(count, kFrames, kChannels);
-  const float scale = 1.0f / static_cast<float>(n);
+  const float scale = 1.0f / static_cast<float>(size(whole_batch, kFrames, kChannels));
   double loss = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const float difference = layers_[3].output[i] - segments[i];
     loss += std::abs(static_cast<double>(difference));
     d_output_[i] = difference > 0.0f ? scale : (difference < 0.0f ? -scale : 0.0f);
   }
-  return loss / static_cast<double>(n);
+  return loss / static_cast<double>(size(whole_batch, kFrames, kChannels));
 }
 
 void AutoencoderStep::backward(const AutoencoderBuffers& p, const AutoencoderBuffers& g) {

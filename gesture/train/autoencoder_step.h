@@ -48,9 +48,12 @@ class AutoencoderStep {
 
   explicit AutoencoderStep(int max_batch);
 
-  // Forward pass of `count` ≤ max_batch segments ([count, 30, 18], contiguous); returns the L1
-  // reconstruction loss. The reconstruction stays in reconstruction() until the next call.
-  double forward(const AutoencoderBuffers& parameters, const float* segments, int count);
+  // Forward pass of `count` ≤ max_batch segments ([count, 30, 18], contiguous); returns their
+  // share of the L1 reconstruction loss, the mean over `whole_batch` segments (default: count;
+  // a slice of a batch split across threads, as MoeStep::forward). The reconstruction stays in
+  // reconstruction() until the next call.
+  double forward(const AutoencoderBuffers& parameters, const float* segments, int count,
+                 int whole_batch = 0);
   // Backward pass of the last forward: every parameter's gradient, written (not added) into
   // `gradients`.
   void backward(const AutoencoderBuffers& parameters, const AutoencoderBuffers& gradients);

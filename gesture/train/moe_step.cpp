@@ -390,10 +390,18 @@ void MoeStep::experts_backward(const MoeBuffers& p, const MoeBuffers& g) {
   }
 }
 
-double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch targets, int count) {
+double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch targets, int count,
+                        int whole_batch) {
   if (count < 1 || count > max_batch_) {
     throw Error("MoeStep: " + std::to_string(count) + " windows, the buffers hold 1 to " +
                 std::to_string(max_batch_));
+  }
+  if (whole_batch == 0) {
+    whole_batch = count;
+  }
+  if (whole_batch < count) {
+    throw Error("MoeStep: a slice of " + std::to_string(count) + " windows of a batch of " +
+                std::to_string(whole_batch));
   }
   batch_ = count;
   lanes_ = lanes_for(count);
@@ -469,7 +477,7 @@ double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch ta
   // Output, L1 loss and its gradient (torch: mean |y − target|, sgn(0) = 0; the clamp passes
   // the gradient where 0 ≤ u ≤ 1).
   const int out = shape_.expert_out;
-  const float scale = 1.0f / static_cast<float>(size(count, out));
+  const float scale = 1.0f / static_cast<float>(size(whole_batch, out));
   double loss = 0;
   for (int b = 0; b < count; ++b) {
     const float* target = targets.first + size(b) * targets.item_stride;
@@ -489,7 +497,7 @@ double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch ta
       d_output_[i] = sign * scale * pass;
     }
   }
-  return loss / static_cast<double>(size(count, out));
+  return loss / static_cast<double>(size(whole_batch, out));
 }
 
 void MoeStep::backward(const MoeBuffers& p, const MoeBuffers& g) {

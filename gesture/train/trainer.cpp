@@ -27,6 +27,7 @@
 #include "gesture/train/manifest.h"
 #include "gesture/train/models.h"
 #include "gesture/train/moe_step.h"
+#include "gesture/train/parallel_steps.h"
 #include "gesture/train/progress.h"
 #include "gesture/train/reconstruction.h"
 
@@ -153,11 +154,9 @@ class Run {
   std::shared_ptr<TrainableNetwork> model_;
   FlatParameters flat_;
   // MPNet(MoE) and UGNet(MoE) train through moe_step.h, the autoencoder through
-  // autoencoder_step.h, on the flat buffers' memory.
-  std::optional<MoeStep> moe_;
-  MoeBuffers moe_parameters_, moe_gradients_;
-  std::optional<AutoencoderStep> autoencoder_;
-  AutoencoderBuffers autoencoder_parameters_, autoencoder_gradients_;
+  // autoencoder_step.h, on the flat buffers' memory, on --threads members (parallel_steps.h).
+  std::optional<ParallelMoeStep> moe_;
+  std::optional<ParallelAutoencoderStep> autoencoder_;
   Checkpoint state_;
   Clock::time_point last_save_ = Clock::now();
   Clock::time_point segment_start_ = Clock::now();  // since state_ times were last updated
@@ -214,9 +213,8 @@ void Run::resume_or_start() {
       throw Error("the MoE step expects " + std::to_string(shape.parameter_count()) +
                   " parameters, the network has " + std::to_string(flat_.numel));
     }
-    moe_.emplace(shape, options_.schedule.batch_size);
-    moe_parameters_ = moe_buffers(*model_, false);
-    moe_gradients_ = moe_buffers(*model_, true);
+    moe_.emplace(shape, options_.schedule.batch_size, options_.threads, moe_buffers(*model_, false),
+                 moe_buffers(*model_, true), span_of(flat_.grads));
   }
   if (options_.network == Network::kMotionAutoencoder && !options_.autograd) {
     if (AutoencoderStep::parameter_count() != static_cast<std::size_t>(flat_.numel)) {
@@ -224,9 +222,9 @@ void Run::resume_or_start() {
                   std::to_string(AutoencoderStep::parameter_count()) +
                   " parameters, the network has " + std::to_string(flat_.numel));
     }
-    autoencoder_.emplace(options_.schedule.batch_size);
-    autoencoder_parameters_ = autoencoder_buffers(*model_, false);
-    autoencoder_gradients_ = autoencoder_buffers(*model_, true);
+    autoencoder_.emplace(options_.schedule.batch_size, options_.threads,
+                         autoencoder_buffers(*model_, false), autoencoder_buffers(*model_, true),
+                         span_of(flat_.grads));
   }
   state_.fingerprint = fingerprint();
   if (options_.restart || !std::filesystem::exists(checkpoint_path_)) {
@@ -279,47 +277,40 @@ void Run::save_checkpoint() {
 void Run::optimiser_step(Timing& timing) {
   const auto t0 = Clock::now();
   ++state_.step;
-  adamw_step({span_of(flat_.values), span_of(flat_.grads), span_of(flat_.exp_avg),
-              span_of(flat_.exp_avg_sq)},
-             options_.schedule, options_.schedule.learning_rate_at(state_.epoch),
-             state_.step);  // also zeroes the gradients
+  const AdamWBuffers flat{span_of(flat_.values), span_of(flat_.grads), span_of(flat_.exp_avg),
+                          span_of(flat_.exp_avg_sq)};
+  const double lr = options_.schedule.learning_rate_at(state_.epoch);
+  // AdamW also zeroes the gradients; the team's adds its members' gradients first.
+  if (moe_) {
+    moe_->optimiser_step(flat, options_.schedule, lr, state_.step);
+  } else if (autoencoder_) {
+    autoencoder_->optimiser_step(flat, options_.schedule, lr, state_.step);
+  } else {
+    adamw_step(flat, options_.schedule, lr, state_.step);
+  }
   timing.optimiser += seconds_since(t0);
 }
 
-// process_batch for the MoE networks through moe_step.h: the same windows, the same draws for
-// scheduled sampling (the stream's third generator) and the same optimiser steps.
+// process_batch for the MoE networks through moe_step.h (parallel_steps.h with --threads): the
+// same windows, the same draws for scheduled sampling (the stream's third generator) and the same
+// optimiser steps.
 Run::Loss Run::process_batch_moe(torch::Tensor& batch, bool training, double teacher_forcing,
                                  std::uint64_t stream, Timing& timing) {
   Loss loss;
   std::mt19937_64 rng(mix(stream, 3));
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const auto count = static_cast<int>(batch.size(0));
-  const auto columns = static_cast<std::size_t>(batch.size(2));
-  const auto item_stride = static_cast<std::size_t>(batch.size(1)) * columns;
   float* clips = batch.data_ptr<float>();
-  const auto input_columns =
-      static_cast<std::size_t>(family_ == Family::kMpnet ? kMpnetInputs : kUgnetInputs);
   for (int t = 0; t < kWindowsPerClip; ++t) {
-    auto t0 = Clock::now();
-    float* newest = clips + static_cast<std::size_t>(kWindowRows - 1 + t) * columns;
     // UGNet's scheduled sampling, as process_batch: the newest pose row becomes the previous
     // window's prediction, still in the step's output.
-    if (family_ == Family::kUgnet && t > 0 && uniform(rng) < 1.0 - teacher_forcing) {
-      const std::span<const float> previous = moe_->prediction();
-      for (int b = 0; b < count; ++b) {
-        std::copy_n(previous.data() + static_cast<std::size_t>(b * kPoseColumns), kPoseColumns,
-                    newest + static_cast<std::size_t>(b) * item_stride);
-      }
-    }
-    const WindowBatch windows{clips + static_cast<std::size_t>(t) * columns, item_stride, columns};
-    const TargetBatch targets{newest + input_columns, item_stride};
-    loss.sum += moe_->forward(moe_parameters_, windows, targets, count);
+    const bool feed_back =
+        family_ == Family::kUgnet && t > 0 && uniform(rng) < 1.0 - teacher_forcing;
+    loss.sum += moe_->window(clips, static_cast<int>(batch.size(2)), t, count, feed_back, training);
     ++loss.count;
-    timing.forward += seconds_since(t0);
+    timing.forward += moe_->forward_seconds();
+    timing.backward += moe_->backward_seconds();
     if (training) {
-      t0 = Clock::now();
-      moe_->backward(moe_parameters_, moe_gradients_);
-      timing.backward += seconds_since(t0);
       optimiser_step(timing);
     }
   }
@@ -334,15 +325,12 @@ Run::Loss Run::process_batch(torch::Tensor batch, bool training, double teacher_
   }
   Loss loss;
   if (autoencoder_) {
-    auto t0 = Clock::now();
-    loss.sum += autoencoder_->forward(autoencoder_parameters_, batch.data_ptr<float>(),
-                                      static_cast<int>(batch.size(0)));
+    loss.sum +=
+        autoencoder_->batch(batch.data_ptr<float>(), static_cast<int>(batch.size(0)), training);
     ++loss.count;
-    timing.forward += seconds_since(t0);
+    timing.forward += autoencoder_->forward_seconds();
+    timing.backward += autoencoder_->backward_seconds();
     if (training) {
-      t0 = Clock::now();
-      autoencoder_->backward(autoencoder_parameters_, autoencoder_gradients_);
-      timing.backward += seconds_since(t0);
       optimiser_step(timing);
     }
     return loss;

@@ -3,15 +3,17 @@
 // batch, then full batches again. One step object taken through batch sizes 32, 11, 20 and 32
 // must give, bit for bit, what a fresh object gives for each batch: nothing may be read that
 // this batch did not write. (Bit for bit holds because every buffer starts on a 64-byte
-// boundary, in the steps and in the trainer's flat buffers alike: aligned_buffer.h says why.) Torch-free, so it also runs under ASan and UBSan, which check every
-// buffer access of both steps. (Their maths is checked against libtorch's autograd in
-// moe_step_test.cpp and autoencoder_step_test.cpp.)
+// boundary, in the steps and in the trainer's flat buffers alike: aligned_buffer.h says why.)
+// Torch-free, so it also runs under ASan and UBSan, which check every buffer access of both steps.
+// (Their maths is checked against libtorch's autograd in moe_step_test.cpp and
+// autoencoder_step_test.cpp.)
 
 #include <gtest/gtest.h>
 
 #include <random>
 #include <vector>
 
+#include "flat_buffers.h"
 #include "gesture/train/autoencoder_step.h"
 #include "gesture/train/moe_step.h"
 
@@ -24,69 +26,20 @@ constexpr int kClipRows = 45;
 struct FlatMoe {
   AlignedFloats values;  // never reallocated: the buffers point into it (aligned as torch's)
   MoeBuffers buffers;
-
-  explicit FlatMoe(const MoeShape& s) : values(s.parameter_count(), 0.0f) {
-    float* next = values.data();
-    auto take = [&](std::size_t n) {
-      float* p = next;
-      next += n;
-      return p;
-    };
-    auto gru = [&](int in, int hidden) {
-      const auto g = static_cast<std::size_t>(3 * hidden);
-      GruLayerBuffers b;
-      b.w_ih = take(g * static_cast<std::size_t>(in));
-      b.w_hh = take(g * static_cast<std::size_t>(hidden));
-      b.b_ih = take(g);
-      b.b_hh = take(g);
-      return b;
-    };
-    buffers.gating[0] = gru(s.gating_columns, MoeStep::kExperts);
-    buffers.gating[1] = gru(MoeStep::kExperts, MoeStep::kExperts);
-    if (s.encoder_hidden > 0) {
-      buffers.encoder = gru(s.window_columns, s.encoder_hidden);
-    }
-    const int dims[4] = {s.expert_in, s.expert_hidden, s.expert_hidden, s.expert_out};
-    for (int l = 0; l < 3; ++l) {
-      const auto out = static_cast<std::size_t>(dims[l + 1]);
-      buffers.expert_weights[l] = take(MoeStep::kExperts * static_cast<std::size_t>(dims[l]) * out);
-      buffers.expert_biases[l] = take(MoeStep::kExperts * out);
-    }
-  }
+  explicit FlatMoe(const MoeShape& s)
+      : values(s.parameter_count(), 0.0f), buffers(test_data::FlatMoe(s, values.data()).buffers) {}
 };
 
 struct FlatAutoencoder {
   AlignedFloats values;  // never reallocated: the buffers point into it (aligned as torch's)
   AutoencoderBuffers buffers;
-
-  FlatAutoencoder() : values(AutoencoderStep::parameter_count(), 0.0f) {
-    float* next = values.data();
-    for (int i = 0; i < 4; ++i) {
-      const AutoencoderStep::LayerShape l = AutoencoderStep::layer_shape(i);
-      buffers.weight[i] = next;
-      next += static_cast<std::size_t>(l.in_channels) * static_cast<std::size_t>(l.out_channels) *
-              static_cast<std::size_t>(l.kernel);
-      buffers.bias[i] = next;
-      next += static_cast<std::size_t>(l.out_channels);
-    }
-  }
+  FlatAutoencoder()
+      : values(AutoencoderStep::parameter_count(), 0.0f),
+        buffers(test_data::FlatAutoencoder(values.data()).buffers) {}
 };
 
-// Fills in place: the buffers point into the vector's memory.
-template <typename Floats>
-void fill_random(Floats& v, float spread, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> normal(0.0f, spread);
-  for (float& x : v) {
-    x = normal(rng);
-  }
-}
-
-std::vector<float> random_values(std::size_t n, float spread, unsigned seed) {
-  std::vector<float> v(n);
-  fill_random(v, spread, seed);
-  return v;
-}
+using test_data::fill_random;
+using test_data::random_values;
 
 struct Outcome {
   double loss = 0;

@@ -126,6 +126,57 @@ void expect_same_training_as_autograd(Network network, const TrainingData& data,
   EXPECT_LT(difference, std::max(tolerance, 1e-3) * largest);
 }
 
+// deixis-train --threads 2 cuts every batch of the direct steps in two (parallel_steps.h): the
+// same optimiser steps as one thread, the slices' gradients added before each, so the same
+// trajectory to rounding. A batch of 5 leaves the second member 2 clips, and validation's last
+// batch of 1, 2 or 3 clips leaves it fewer or none. The first epoch must agree to 1e-5, the
+// later ones to `tolerance`; 0 compares the first only (a tiny MPNet at a learning rate of 1e-3
+// and batches of 5 turns rounding into an epoch-3 difference of several percent; its single
+// steps are compared in parallel_steps_test.cpp).
+void expect_two_threads_train_as_one(Network network, const TrainingData& data, double tolerance) {
+  deixis::testing::ScratchDir dir;
+  TrainOptions one = tiny_options(network, dir.path() / "one");
+  one.schedule.batch_size = 5;
+  one.schedule.teacher_forcing_epochs = 1;
+  one.schedule.autoregressive_from_epoch = 3;
+  TrainOptions two = one;
+  two.out_dir = dir.path() / "two";
+  two.threads = 2;
+  std::ostringstream log;
+  const TrainOutcome a = train::train(one, data, log);
+  const TrainOutcome b = train::train(two, data, log);
+  ASSERT_EQ(a.history.size(), b.history.size());
+  const std::size_t compared = tolerance > 0 ? a.history.size() : 1;
+  for (std::size_t e = 0; e < compared; ++e) {
+    const double within = e == 0 ? 1e-5 : tolerance;
+    EXPECT_NEAR(b.history[e].train_loss, a.history[e].train_loss, within * a.history[e].train_loss)
+        << "epoch " << e + 1;
+    EXPECT_NEAR(b.history[e].validation_loss, a.history[e].validation_loss,
+                within * a.history[e].validation_loss)
+        << "epoch " << e + 1;
+  }
+  EXPECT_LT(b.history.back().train_loss, b.history.front().train_loss);
+}
+
+TEST(Training, TwoThreadsTrainTheMoeNetworksAsOneDoes) {
+  const ExampleSet validation = ugnet_clips(test_data::synthetic_sequences(3, 61, 4));
+  ASSERT_NE(validation.count % 5, 0u);
+  expect_two_threads_train_as_one(
+      Network::kUgnetMoe, {ugnet_clips(test_data::synthetic_sequences(12, 60, 3)), validation},
+      1e-4);
+  expect_two_threads_train_as_one(Network::kMpnetMoe,
+                                  {mpnet_clips(test_data::synthetic_sequences(20, 60, 1)),
+                                   mpnet_clips(test_data::synthetic_sequences(3, 61, 2))},
+                                  0);
+}
+
+TEST(Training, TwoThreadsTrainTheAutoencoderAsOneDoes) {
+  expect_two_threads_train_as_one(Network::kMotionAutoencoder,
+                                  {motion_segments(test_data::synthetic_sequences(6, 60, 5)),
+                                   motion_segments(test_data::synthetic_sequences(2, 50, 6))},
+                                  1e-4);
+}
+
 // The validation sets' clip counts are not multiples of the batch of 8 (asserted), so the last
 // validation batch of every epoch is a partial one.
 TEST(Training, MpnetMoeStepTrainsAsAutogradDoes) {
