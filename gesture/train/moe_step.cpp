@@ -164,9 +164,16 @@ std::size_t MoeShape::parameter_count() const {
   return n;
 }
 
-MoeStep::MoeStep(const MoeShape& shape, int max_batch) : shape_(shape), max_batch_(max_batch) {
+MoeStep::MoeStep(const MoeShape& shape, int max_batch, int members)
+    : shape_(shape),
+      max_batch_(max_batch),
+      dims_{shape.expert_in, shape.expert_hidden, shape.expert_hidden, shape.expert_out} {
   if (max_batch < 1) {
     throw Error("MoeStep: the batch must hold at least one window");
+  }
+  if (members < 1 || members > kExperts) {
+    throw Error("MoeStep: a team of 1 to " + std::to_string(kExperts) + " threads shares the " +
+                std::to_string(kExperts) + " experts, not " + std::to_string(members));
   }
   const int lanes = lanes_for(max_batch);
   auto make_gru = [&](GruLayerState& layer, int input, int hidden) {
@@ -184,23 +191,28 @@ MoeStep::MoeStep(const MoeShape& shape, int max_batch) : shape_(shape), max_batc
   if (shape.encoder_hidden > 0) {
     make_gru(encoder_, shape.window_columns, shape.encoder_hidden);
   }
-  const int dims[4] = {shape.expert_in, shape.expert_hidden, shape.expert_hidden, shape.expert_out};
+  const int widest = std::max(shape.expert_in, shape.expert_hidden);
+  members_.resize(static_cast<std::size_t>(members));
+  for (MemberState& m : members_) {
+    for (int l = 0; l < 3; ++l) {
+      m.input[l].resize(size(max_batch, dims_[l]));
+      m.partial[l].resize(size(max_batch, dims_[l + 1]));
+      m.blended[l].resize(size(max_batch, dims_[l + 1]));
+      m.d_input_part[l].resize(size(max_batch, dims_[l]));
+    }
+    m.d_u.resize(size(max_batch, widest));
+    m.d_a.resize(size(max_batch, widest));
+    m.d_h.resize(size(max_batch, widest));
+    m.d_output.resize(size(max_batch, shape.expert_out));
+  }
   for (int l = 0; l < 3; ++l) {
-    experts_[l].in = dims[l];
-    experts_[l].out = dims[l + 1];
-    experts_[l].input.resize(size(max_batch, dims[l]));
-    experts_[l].products.resize(size(kExperts, max_batch, dims[l + 1]));
-    experts_[l].blended.resize(size(max_batch, dims[l + 1]));
+    products_[l].resize(size(kExperts, max_batch, dims_[l + 1]));
   }
   omega_.resize(size(max_batch, kExperts));
   d_omega_.resize(size(max_batch, kExperts));
   output_.resize(size(max_batch, shape.expert_out));
-  d_output_.resize(size(max_batch, shape.expert_out));
-  // Per-step temporaries: a GRU's forward needs 7 and its backward 6 blocks of hidden × lanes,
-  // experts_backward three blocks of batch × the widest layer.
-  const int widest_gru = std::max(kExperts, shape.encoder_hidden);
-  const int widest_layer = std::max(shape.expert_in, shape.expert_hidden);
-  scratch_.resize(std::max(size(7, widest_gru, lanes), size(3, max_batch, widest_layer)));
+  // A GRU's forward needs 7 and its backward 6 blocks of hidden × lanes.
+  scratch_.resize(size(7, std::max(kExperts, shape.encoder_hidden), lanes));
 }
 
 std::span<const float> MoeStep::prediction() const {
@@ -317,94 +329,127 @@ void MoeStep::gru_backward(GruLayerState& layer, const GruLayerBuffers& p, const
   }
 }
 
-// u_l = Σ_e ω_e ⊙ (a·W_e + b_e): nine products per layer on the batch-major activations.
-void MoeStep::experts_forward(const MoeBuffers& p) {
-  const auto batch = static_cast<Eigen::Index>(batch_);
-  const ConstMatrixMap omega(omega_.data(), batch, kExperts);
-  for (int l = 0; l < 3; ++l) {
-    ExpertLayerState& layer = experts_[l];
-    const Eigen::Index in = layer.in, out = layer.out;
-    const ConstMatrixMap a(layer.input.data(), batch, in);
-    MatrixMap u(layer.blended.data(), batch, out);
-    u.setZero();
-    for (Eigen::Index e = 0; e < kExperts; ++e) {
-      MatrixMap product(layer.products.data() + e * batch * out, batch, out);
-      product.noalias() = a * ConstMatrixMap(p.expert_weights[l] + e * in * out, in, out);
-      product.rowwise() += Eigen::Map<const Eigen::RowVectorXf>(p.expert_biases[l] + e * out, out);
-      u += (product.array().colwise() * omega.col(e).array()).matrix();
-    }
-    if (l + 1 < 3) {
-      elu(layer.blended.data(), experts_[l + 1].input.data(), size(batch_, out));
+// The experts [first, last) of a layer: products a·W_e + b_e, on `count` batch-major rows.
+void MoeStep::products(const MoeBuffers& p, int layer, int first_expert, int last_expert,
+                       const float* a, int count) {
+  const auto batch = static_cast<Eigen::Index>(count);
+  const Eigen::Index in = dims_[layer], out = dims_[layer + 1];
+  const ConstMatrixMap input(a, batch, in);
+  for (Eigen::Index e = first_expert; e < last_expert; ++e) {
+    MatrixMap product(products_[layer].data() + e * batch * out, batch, out);
+    product.noalias() = input * ConstMatrixMap(p.expert_weights[layer] + e * in * out, in, out);
+    product.rowwise() +=
+        Eigen::Map<const Eigen::RowVectorXf>(p.expert_biases[layer] + e * out, out);
+  }
+}
+
+namespace {
+
+// Member m's experts: [9·m/n, 9·(m+1)/n).
+std::pair<int, int> experts_of(ExpertTeam team) {
+  return {MoeStep::kExperts * team.member / team.members,
+          MoeStep::kExperts * (team.member + 1) / team.members};
+}
+
+void meet(ExpertTeam team) {
+  if (team.members > 1) {
+    team.sync->arrive_and_wait();
+  }
+}
+
+// out = Σ over members of their part (member order, so every member computes the same bits).
+template <typename Part>
+void add_parts(float* out, std::size_t n, int members, Part part) {
+  std::copy_n(part(0), n, out);
+  for (int k = 1; k < members; ++k) {
+    const float* add = part(k);
+    for (std::size_t i = 0; i < n; ++i) {
+      out[i] += add[i];
     }
   }
 }
 
-void MoeStep::experts_backward(const MoeBuffers& p, const MoeBuffers& g) {
+}  // namespace
+
+// u_l = Σ_e ω_e ⊙ (a·W_e + b_e). Each member blends its own experts' products, the members meet,
+// and each adds up every member's part into its own u_l (and a_l = ELU(u_l)).
+void MoeStep::experts_forward(const MoeBuffers& p, ExpertTeam team, bool layer0_products_done) {
+  const auto batch = static_cast<Eigen::Index>(batch_);
+  const ConstMatrixMap omega(omega_.data(), batch, kExperts);
+  const auto [first, last] = experts_of(team);
+  MemberState& own = members_[static_cast<std::size_t>(team.member)];
+  for (int l = 0; l < 3; ++l) {
+    const Eigen::Index out = dims_[l + 1];
+    if (l > 0 || !layer0_products_done) {
+      products(p, l, first, last, own.input[l].data(), batch_);
+    }
+    MatrixMap partial(own.partial[l].data(), batch, out);
+    partial.setZero();
+    for (Eigen::Index e = first; e < last; ++e) {
+      const ConstMatrixMap product(products_[l].data() + e * batch * out, batch, out);
+      partial += (product.array().colwise() * omega.col(e).array()).matrix();
+    }
+    meet(team);
+    const std::size_t n = size(batch_, out);
+    add_parts(own.blended[l].data(), n, team.members,
+              [&](int k) { return members_[static_cast<std::size_t>(k)].partial[l].data(); });
+    if (l + 1 < 3) {
+      elu(own.blended[l].data(), own.input[l + 1].data(), n);
+    }
+  }
+}
+
+// Each member: its experts' weight, bias and ω gradients and its part of ∂L/∂a; the members meet
+// and each adds up ∂L/∂a, then goes through the ELU to the layer below.
+void MoeStep::experts_backward(const MoeBuffers& p, const MoeBuffers& g, ExpertTeam team) {
   const auto batch = static_cast<Eigen::Index>(batch_);
   const ConstMatrixMap omega(omega_.data(), batch, kExperts);
   MatrixMap d_omega(d_omega_.data(), batch, kExperts);
-  d_omega.setZero();
-  const int widest = std::max(shape_.expert_in, shape_.expert_hidden);
-  float* d_u_buffer = scratch_.data();                    // ∂L/∂u_l, [batch][out]
-  float* d_a_buffer = d_u_buffer + size(batch_, widest);  // ∂L/∂a_{l−1}, [batch][in]
-  float* d_h_buffer = d_a_buffer + size(batch_, widest);  // ω_e ⊙ ∂L/∂u_l, [batch][out]
-  std::copy(d_output_.begin(),
-            d_output_.begin() + static_cast<std::ptrdiff_t>(size(batch_, shape_.expert_out)),
-            d_u_buffer);
+  const auto [first, last] = experts_of(team);
+  MemberState& own = members_[static_cast<std::size_t>(team.member)];
+  std::copy_n(own.d_output.begin(), size(batch_, shape_.expert_out), own.d_u.begin());
   for (int l = 2; l >= 0; --l) {
-    const ExpertLayerState& layer = experts_[l];
-    const Eigen::Index in = layer.in, out = layer.out;
-    const ConstMatrixMap a(layer.input.data(), batch, in);
-    const MatrixMap d_u(d_u_buffer, batch, out);
+    const Eigen::Index in = dims_[l], out = dims_[l + 1];
+    const ConstMatrixMap a(own.input[l].data(), batch, in);
+    const ConstMatrixMap d_u(own.d_u.data(), batch, out);
     const bool want_input = l > 0 || shape_.encoder_hidden > 0;
-    MatrixMap d_a(d_a_buffer, batch, want_input ? in : 0);
-    MatrixMap d_h(d_h_buffer, batch, out);
-    d_a.setZero();
-    for (Eigen::Index e = 0; e < kExperts; ++e) {
-      const ConstMatrixMap product(layer.products.data() + e * batch * out, batch, out);
-      d_omega.col(e) += (d_u.array() * product.array()).rowwise().sum().matrix();
+    MatrixMap d_a_part(own.d_input_part[l].data(), batch, want_input ? in : 0);
+    MatrixMap d_h(own.d_h.data(), batch, out);
+    d_a_part.setZero();
+    for (Eigen::Index e = first; e < last; ++e) {
+      const ConstMatrixMap product(products_[l].data() + e * batch * out, batch, out);
+      // ∂L/∂ω_e adds up over the three layers (u_l = Σ_e ω_e ⊙ products).
+      if (l == 2) {
+        d_omega.col(e) = (d_u.array() * product.array()).rowwise().sum().matrix();
+      } else {
+        d_omega.col(e) += (d_u.array() * product.array()).rowwise().sum().matrix();
+      }
       d_h.noalias() = (d_u.array().colwise() * omega.col(e).array()).matrix();
       MatrixMap(g.expert_weights[l] + e * in * out, in, out).noalias() = a.transpose() * d_h;
       Eigen::Map<Eigen::RowVectorXf>(g.expert_biases[l] + e * out, out) = d_h.colwise().sum();
       if (want_input) {
-        d_a.noalias() +=
+        d_a_part.noalias() +=
             d_h * ConstMatrixMap(p.expert_weights[l] + e * in * out, in, out).transpose();
       }
     }
+    if (!want_input) {
+      continue;
+    }
+    meet(team);
+    const std::size_t n = size(batch_, in);
+    add_parts(own.d_a.data(), n, team.members,
+              [&](int k) { return members_[static_cast<std::size_t>(k)].d_input_part[l].data(); });
     if (l > 0) {
       // Through the ELU that made this layer's input.
-      MatrixMap next(d_u_buffer, batch, in);
-      next = (d_a.array() * (a.array() > 0.0f).select(1.0f, a.array() + 1.0f)).matrix();
-    }
-  }
-  if (shape_.encoder_hidden > 0) {
-    // ∂L/∂a₀ is the gradient of the encoder GRU's last output.
-    std::fill(encoder_.d_output.begin(), encoder_.d_output.end(), 0.0f);
-    const std::size_t tl = size(kTime, lanes_);
-    for (int j = 0; j < shape_.encoder_hidden; ++j) {
-      float* to = encoder_.d_output.data() + size(j, tl) + size(kTime - 1, lanes_);
-      for (int b = 0; b < batch_; ++b) {
-        to[b] = d_a_buffer[size(b, shape_.expert_in) + static_cast<std::size_t>(j)];
-      }
+      const ConstMatrixMap d_a(own.d_a.data(), batch, in);
+      MatrixMap(own.d_u.data(), batch, in) =
+          (d_a.array() * (a.array() > 0.0f).select(1.0f, a.array() + 1.0f)).matrix();
     }
   }
 }
 
-double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch targets, int count,
-                        int whole_batch) {
-  if (count < 1 || count > max_batch_) {
-    throw Error("MoeStep: " + std::to_string(count) + " windows, the buffers hold 1 to " +
-                std::to_string(max_batch_));
-  }
-  if (whole_batch == 0) {
-    whole_batch = count;
-  }
-  if (whole_batch < count) {
-    throw Error("MoeStep: a slice of " + std::to_string(count) + " windows of a batch of " +
-                std::to_string(whole_batch));
-  }
-  batch_ = count;
-  lanes_ = lanes_for(count);
+// The gating network's and MPNet's encoder GRU's forward pass (member 0): ω, and MPNet's a₀.
+void MoeStep::gating_forward(const MoeBuffers& p, WindowBatch windows, int count) {
   const std::size_t tl = size(kTime, lanes_);
   auto at = [&](int b, int r, int c) {
     return windows.first[size(b) * windows.item_stride + size(r) * windows.row_stride +
@@ -423,11 +468,7 @@ double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch ta
     }
   };
   gather(gating_[0], shape_.gating_first);
-  if (shape_.encoder_hidden > 0) {
-    gather(encoder_, 0);
-  }
-
-  // Gating: softmax over the 9 hidden units of the second GRU layer's last output.
+  // Softmax over the 9 hidden units of the second GRU layer's last output.
   gru_forward(gating_[0], p.gating[0]);
   std::copy_n(gating_[0].output.begin(), size(kExperts, tl), gating_[1].input_sequence.begin());
   gru_forward(gating_[1], p.gating[1]);
@@ -447,35 +488,75 @@ double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch ta
       w[e] /= sum;
     }
   }
-
-  // The experts' input: MPNet's GRU encoding, or UGNet's condition vector (the newest row's pose,
-  // then the gating columns of all 30 rows, oldest first).
-  float* a = experts_[0].input.data();
   if (shape_.encoder_hidden > 0) {
+    gather(encoder_, 0);
     gru_forward(encoder_, p.encoder);
+    float* a = members_[0].input[0].data();
     for (int b = 0; b < count; ++b) {
       for (int j = 0; j < shape_.encoder_hidden; ++j) {
         a[size(b, shape_.expert_in) + static_cast<std::size_t>(j)] =
             encoder_.output[size(j, tl) + size(kTime - 1, lanes_) + b];
       }
     }
-  } else {
-    for (int b = 0; b < count; ++b) {
-      float* row = a + size(b, shape_.expert_in);
-      for (int c = 0; c < shape_.pose_columns; ++c) {
-        *row++ = at(b, kTime - 1, c);
-      }
-      for (int t = 0; t < kTime; ++t) {
-        for (int k = 0; k < shape_.gating_columns; ++k) {
-          *row++ = at(b, t, shape_.gating_first + k);
-        }
-      }
+  }
+}
+
+// UGNet's condition vector: the newest row's pose, then the gating columns of all 30 rows,
+// oldest first.
+void MoeStep::gather_condition(WindowBatch windows, int count, float* a) const {
+  for (int b = 0; b < count; ++b) {
+    const float* clip = windows.first + size(b) * windows.item_stride;
+    float* row = a + size(b, shape_.expert_in);
+    const float* newest = clip + size(kTime - 1) * windows.row_stride;
+    row = std::copy_n(newest, shape_.pose_columns, row);
+    for (int t = 0; t < kTime; ++t) {
+      row = std::copy_n(clip + size(t) * windows.row_stride + size(shape_.gating_first),
+                        shape_.gating_columns, row);
     }
   }
-  experts_forward(p);
+}
+
+double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch targets, int count,
+                        int whole_batch, ExpertTeam team) {
+  if (count < 1 || count > max_batch_) {
+    throw Error("MoeStep: " + std::to_string(count) + " windows, the buffers hold 1 to " +
+                std::to_string(max_batch_));
+  }
+  if (whole_batch == 0) {
+    whole_batch = count;
+  }
+  if (whole_batch < count) {
+    throw Error("MoeStep: a slice of " + std::to_string(count) + " windows of a batch of " +
+                std::to_string(whole_batch));
+  }
+  if (team.members != static_cast<int>(members_.size()) ||
+      (team.members > 1 && team.sync == nullptr)) {
+    throw Error("MoeStep: built for a team of " + std::to_string(members_.size()) +
+                " threads, called by one of " + std::to_string(team.members));
+  }
+  // Every member writes the same batch size; nobody reads another's before the first meeting.
+  MemberState& own = members_[static_cast<std::size_t>(team.member)];
+  const auto [first, last] = experts_of(team);
+  if (team.member == 0) {
+    batch_ = count;
+    lanes_ = lanes_for(count);
+    gating_forward(p, windows, count);
+  }
+  // UGNet's first layer reads data only: its products need no gating and start at once.
+  const bool ugnet = shape_.encoder_hidden == 0;
+  if (ugnet) {
+    // batch_ is member 0's to write: until the meeting the others go by `count`.
+    gather_condition(windows, count, own.input[0].data());
+    products(p, 0, first, last, own.input[0].data(), count);
+  }
+  meet(team);  // ω (and MPNet's a₀) are ready
+  if (!ugnet && team.member > 0) {
+    std::copy_n(members_[0].input[0].begin(), size(count, dims_[0]), own.input[0].begin());
+  }
+  experts_forward(p, team, ugnet);
 
   // Output, L1 loss and its gradient (torch: mean |y − target|, sgn(0) = 0; the clamp passes
-  // the gradient where 0 ≤ u ≤ 1).
+  // the gradient where 0 ≤ u ≤ 1). Every member takes its own copy of the gradient.
   const int out = shape_.expert_out;
   const float scale = 1.0f / static_cast<float>(size(whole_batch, out));
   double loss = 0;
@@ -483,26 +564,39 @@ double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch ta
     const float* target = targets.first + size(b) * targets.item_stride;
     for (int c = 0; c < out; ++c) {
       const std::size_t i = size(b, out) + static_cast<std::size_t>(c);
-      const float u = experts_[2].blended[i];
+      const float u = own.blended[2][i];
       float y = u;
       float pass = 1.0f;
       if (shape_.clamp_output) {
         y = std::clamp(u, 0.0f, 1.0f);
         pass = (u >= 0.0f && u <= 1.0f) ? 1.0f : 0.0f;
       }
-      output_[i] = y;
+      if (team.member == 0) {
+        output_[i] = y;
+      }
       const float difference = y - target[c];
       loss += std::abs(static_cast<double>(difference));
       const float sign = difference > 0.0f ? 1.0f : (difference < 0.0f ? -1.0f : 0.0f);
-      d_output_[i] = sign * scale * pass;
+      own.d_output[i] = sign * scale * pass;
     }
   }
   return loss / static_cast<double>(size(whole_batch, out));
 }
 
-void MoeStep::backward(const MoeBuffers& p, const MoeBuffers& g) {
-  experts_backward(p, g);
+// The GRUs' backward pass (member 0), once every member's ∂L/∂ω and ∂L/∂a₀ are in.
+void MoeStep::gating_backward(const MoeBuffers& p, const MoeBuffers& g) {
   const std::size_t tl = size(kTime, lanes_);
+  if (shape_.encoder_hidden > 0) {
+    // ∂L/∂a₀ is the gradient of the encoder GRU's last output.
+    std::fill(encoder_.d_output.begin(), encoder_.d_output.end(), 0.0f);
+    const float* d_a = members_[0].d_a.data();
+    for (int j = 0; j < shape_.encoder_hidden; ++j) {
+      float* to = encoder_.d_output.data() + size(j, tl) + size(kTime - 1, lanes_);
+      for (int b = 0; b < batch_; ++b) {
+        to[b] = d_a[size(b, shape_.expert_in) + static_cast<std::size_t>(j)];
+      }
+    }
+  }
   // Softmax: ∂L/∂z_e = ω_e (∂L/∂ω_e − Σ_f ω_f ∂L/∂ω_f), at the last step of the second layer.
   std::fill(gating_[1].d_output.begin(), gating_[1].d_output.end(), 0.0f);
   for (int b = 0; b < batch_; ++b) {
@@ -520,6 +614,14 @@ void MoeStep::backward(const MoeBuffers& p, const MoeBuffers& g) {
   gru_backward(gating_[0], p.gating[0], g.gating[0], nullptr);
   if (shape_.encoder_hidden > 0) {
     gru_backward(encoder_, p.encoder, g.encoder, nullptr);
+  }
+}
+
+void MoeStep::backward(const MoeBuffers& p, const MoeBuffers& g, ExpertTeam team) {
+  experts_backward(p, g, team);
+  meet(team);  // every expert's ∂L/∂ω is in
+  if (team.member == 0) {
+    gating_backward(p, g);
   }
 }
 

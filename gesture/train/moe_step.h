@@ -21,8 +21,10 @@
 // tests/train/moe_step_test.cpp checks the loss, the prediction and every gradient against
 // libtorch's autograd through the training models at both networks' sizes.
 
+#include <barrier>
 #include <cstddef>
 #include <span>
+#include <vector>
 
 #include "gesture/train/aligned_buffer.h"
 
@@ -72,13 +74,26 @@ struct TargetBatch {
   std::size_t item_stride = 0;
 };
 
+// Expert parallelism: the nine experts of every layer are shared out among the members of a
+// team of threads, member m computing experts [9·m/n, 9·(m+1)/n) — their products, their
+// gradients — and member 0 the GRUs as well. The batch stays whole, so every product keeps its
+// size, and each expert's gradient is computed by one member only: nothing is added across
+// threads but the blended outputs and the hidden layers' input gradients (a few KB). All members
+// call forward() and backward() with the same arguments and their own `member`; `sync` is the
+// team's barrier, which they meet three to four times per pass (null for a team of one).
+struct ExpertTeam {
+  int member = 0;
+  int members = 1;
+  std::barrier<>* sync = nullptr;
+};
+
 class MoeStep {
  public:
   static constexpr int kWindowRows = 30;
   static constexpr int kExperts = 9;
 
-  // Buffers for up to `max_batch` windows, allocated here once.
-  MoeStep(const MoeShape& shape, int max_batch);
+  // Buffers for up to `max_batch` windows and a team of `members` threads, allocated once.
+  MoeStep(const MoeShape& shape, int max_batch, int members = 1);
 
   // Forward pass of `count` ≤ max_batch windows; returns their share of the L1 loss, the mean
   // over `whole_batch` windows (default: count): a slice of a batch split across threads gives
@@ -86,10 +101,10 @@ class MoeStep {
   // batch's.
   // The predictions (count × expert_out, row-major) stay in prediction() until the next call.
   double forward(const MoeBuffers& parameters, WindowBatch windows, TargetBatch targets, int count,
-                 int whole_batch = 0);
+                 int whole_batch = 0, ExpertTeam team = {});
   // Backward pass of the last forward: the loss's gradient for every parameter, written (not
   // added) into `gradients`.
-  void backward(const MoeBuffers& parameters, const MoeBuffers& gradients);
+  void backward(const MoeBuffers& parameters, const MoeBuffers& gradients, ExpertTeam team = {});
 
   std::span<const float> prediction() const;
   const MoeShape& shape() const { return shape_; }
@@ -105,31 +120,41 @@ class MoeStep {
     AlignedFloats d_input_gates;   // [3·hidden][time][lanes]
     AlignedFloats d_hidden_gates;  // [3·hidden][time][lanes]
   };
-  struct ExpertLayerState {
-    int in = 0, out = 0;
-    AlignedFloats input;     // a_{l−1}, [batch][in]
-    AlignedFloats products;  // a_{l−1}·W_e + b_e, [experts][batch][out]
-    AlignedFloats blended;   // u_l, [batch][out]
+  // What each member of an expert team keeps of its own (every member the same values where they
+  // are not partial).
+  struct MemberState {
+    AlignedFloats input[3];         // a_{l−1}, [batch][in]
+    AlignedFloats partial[3];       // Σ over this member's experts of ω_e ⊙ products
+    AlignedFloats blended[3];       // u_l = Σ over members of partial, [batch][out]
+    AlignedFloats d_input_part[3];  // Σ over this member's experts of ∂u_l/∂a·…, [batch][in]
+    AlignedFloats d_u, d_a, d_h;    // ∂L/∂u_l, ∂L/∂a_{l−1}, ω_e ⊙ ∂L/∂u_l
+    AlignedFloats d_output;         // ∂L/∂u₃, [batch][out]
   };
 
   void gru_forward(GruLayerState& layer, const GruLayerBuffers& p);
   void gru_backward(GruLayerState& layer, const GruLayerBuffers& p, const GruLayerBuffers& g,
                     float* d_input);
-  void experts_forward(const MoeBuffers& p);
-  void experts_backward(const MoeBuffers& p, const MoeBuffers& g);
+  void gating_forward(const MoeBuffers& p, WindowBatch windows, int count);
+  void gating_backward(const MoeBuffers& p, const MoeBuffers& g);
+  void gather_condition(WindowBatch windows, int count, float* a) const;
+  void products(const MoeBuffers& p, int layer, int first_expert, int last_expert, const float* a,
+                int count);
+  void experts_forward(const MoeBuffers& p, ExpertTeam team, bool layer0_products_done);
+  void experts_backward(const MoeBuffers& p, const MoeBuffers& g, ExpertTeam team);
 
   MoeShape shape_;
   int max_batch_;
-  int batch_ = 0;  // windows of the last forward
-  int lanes_ = 0;  // the GRUs' batch stride: batch_ rounded up to whole vectors of 8
+  int batch_ = 0;     // windows of the last forward
+  int lanes_ = 0;     // the GRUs' batch stride: batch_ rounded up to whole vectors of 8
+  int dims_[4] = {};  // the experts' widths: in, hidden, hidden, out
   GruLayerState gating_[2];
   GruLayerState encoder_;
-  ExpertLayerState experts_[3];
-  AlignedFloats omega_;     // [batch][experts]
-  AlignedFloats d_omega_;   // [batch][experts]
-  AlignedFloats output_;    // [batch][out], clamped for MPNet
-  AlignedFloats d_output_;  // ∂L/∂u₃, [batch][out]
-  AlignedFloats scratch_;   // per-step temporaries of the GRUs and experts_backward
+  AlignedFloats products_[3];  // a_{l−1}·W_e + b_e, [experts][batch][out]; each member its own e
+  std::vector<MemberState> members_;
+  AlignedFloats omega_;    // [batch][experts]
+  AlignedFloats d_omega_;  // [batch][experts]; column e written by the member owning e
+  AlignedFloats output_;   // [batch][out], clamped for MPNet
+  AlignedFloats scratch_;  // per-step temporaries of the GRUs
 };
 
 }  // namespace deixis::train

@@ -23,22 +23,6 @@ double seconds_between(Clock::time_point a, Clock::time_point b) {
 }
 
 // The same tensors at the same offsets in member m's gradient buffer.
-MoeBuffers member_buffers(GradientTeam& team, int member, const MoeBuffers& flat) {
-  auto move = [&](float* p) { return p == nullptr ? nullptr : team.member_pointer(member, p); };
-  auto gru = [&](const GruLayerBuffers& g) {
-    return GruLayerBuffers{move(g.w_ih), move(g.w_hh), move(g.b_ih), move(g.b_hh)};
-  };
-  MoeBuffers b;
-  b.gating[0] = gru(flat.gating[0]);
-  b.gating[1] = gru(flat.gating[1]);
-  b.encoder = gru(flat.encoder);
-  for (int l = 0; l < 3; ++l) {
-    b.expert_weights[l] = move(flat.expert_weights[l]);
-    b.expert_biases[l] = move(flat.expert_biases[l]);
-  }
-  return b;
-}
-
 AutoencoderBuffers member_buffers(GradientTeam& team, int member, const AutoencoderBuffers& flat) {
   AutoencoderBuffers b;
   for (int i = 0; i < 4; ++i) {
@@ -121,19 +105,19 @@ double GradientTeam::run_slices(int count, bool backward,
   return total;
 }
 
-void GradientTeam::optimiser_step(const AdamWBuffers& flat, const Schedule& schedule, double lr,
-                                  std::int64_t step) {
+void adamw_on_team(StepTeam& team, const AdamWBuffers& flat, const Schedule& schedule, double lr,
+                   std::int64_t step, const std::vector<AlignedFloats>& extra) {
   const std::size_t n = flat.values.size();
   // Ranges of whole cache lines, one per member.
-  const std::size_t share = (n / static_cast<std::size_t>(members()) + 1 + 15) / 16 * 16;
-  team_->run([&](int member) {
+  const std::size_t share = (n / static_cast<std::size_t>(team.size()) + 1 + 15) / 16 * 16;
+  team.run([&](int member) {
     const std::size_t first = std::min(n, static_cast<std::size_t>(member) * share);
     const std::size_t count = std::min(n, first + share) - first;
     if (count == 0) {
       return;
     }
     float* sum = flat.grads.data() + first;
-    for (const AlignedFloats& other : member_gradients_) {
+    for (const AlignedFloats& other : extra) {
       const float* add = other.data() + first;
       for (std::size_t i = 0; i < count; ++i) {
         sum[i] += add[i];
@@ -146,44 +130,45 @@ void GradientTeam::optimiser_step(const AdamWBuffers& flat, const Schedule& sche
 }
 
 ParallelMoeStep::ParallelMoeStep(const MoeShape& shape, int batch_size, int members,
-                                 const MoeBuffers& parameters, const MoeBuffers& gradients,
-                                 std::span<float> flat_gradients)
-    : GradientTeam(members, flat_gradients), parameters_(parameters) {
-  if (batch_size < members) {
-    throw Error("--threads " + std::to_string(members) + " needs batches of at least " +
-                std::to_string(members) + " clips, not " + std::to_string(batch_size));
-  }
-  for (int m = 0; m < members; ++m) {
-    steps_.emplace_back(shape, ceil_div(batch_size, members));
-    gradients_.push_back(member_buffers(*this, m, gradients));
-  }
-}
+                                 const MoeBuffers& parameters, const MoeBuffers& gradients)
+    : team_(std::make_unique<StepTeam>(members)),
+      sync_(members),
+      step_(shape, batch_size, members),
+      parameters_(parameters),
+      gradients_(gradients) {}
 
 double ParallelMoeStep::window(float* clips, int columns, int window, int count, bool feed_back,
                                bool backward) {
-  const MoeShape& shape = steps_.front().shape();
+  const MoeShape& shape = step_.shape();
   const auto item_stride = static_cast<std::size_t>(kClipRows) * static_cast<std::size_t>(columns);
   const auto row = static_cast<std::size_t>(columns);
-  auto forward = [&](int m, int first, int last) {
-    MoeStep& step = steps_[static_cast<std::size_t>(m)];
-    float* own = clips + static_cast<std::size_t>(first) * item_stride;
-    float* newest = own + static_cast<std::size_t>(kWindowRows - 1 + window) * row;
-    if (feed_back) {
-      const std::span<const float> previous = step.prediction();
-      for (int i = 0; i < last - first; ++i) {
-        std::copy_n(previous.data() + static_cast<std::size_t>(i * shape.pose_columns),
-                    shape.pose_columns, newest + static_cast<std::size_t>(i) * item_stride);
-      }
+  float* newest = clips + static_cast<std::size_t>(kWindowRows - 1 + window) * row;
+  if (feed_back) {
+    const std::span<const float> previous = step_.prediction();
+    for (int i = 0; i < count; ++i) {
+      std::copy_n(previous.data() + static_cast<std::size_t>(i * shape.pose_columns),
+                  shape.pose_columns, newest + static_cast<std::size_t>(i) * item_stride);
     }
-    const WindowBatch windows{own + static_cast<std::size_t>(window) * row, item_stride, row};
-    const TargetBatch targets{newest + static_cast<std::size_t>(shape.window_columns), item_stride};
-    return step.forward(parameters_, windows, targets, last - first, count);
-  };
-  auto backward_pass = [&](int m) {
-    steps_[static_cast<std::size_t>(m)].backward(parameters_,
-                                                 gradients_[static_cast<std::size_t>(m)]);
-  };
-  return run_slices(count, backward, forward, backward_pass);
+  }
+  const WindowBatch windows{clips + static_cast<std::size_t>(window) * row, item_stride, row};
+  const TargetBatch targets{newest + static_cast<std::size_t>(shape.window_columns), item_stride};
+  const Clock::time_point start = Clock::now();
+  Clock::time_point forward_end;
+  double loss = 0;
+  team_->run([&](int m) {
+    const ExpertTeam member{m, team_->size(), &sync_};
+    const double l = step_.forward(parameters_, windows, targets, count, count, member);
+    if (m == 0) {
+      loss = l;
+      forward_end = Clock::now();
+    }
+    if (backward) {
+      step_.backward(parameters_, gradients_, member);
+    }
+  });
+  forward_seconds_ = seconds_between(start, forward_end);
+  backward_seconds_ = seconds_between(forward_end, Clock::now());
+  return loss;
 }
 
 ParallelAutoencoderStep::ParallelAutoencoderStep(int batch_size, int members,

@@ -4,10 +4,12 @@
 // slices, each member computes its slice's gradients, then each member sums and updates its own
 // range of the parameters; two team runs per optimiser step.
 //
-// Member 0 is the calling thread, so a team of one is a plain call. The others wait on a
-// condition variable between runs. An exception thrown by any member is rethrown by run() once
-// every member has finished.
+// Member 0 is the calling thread, so a team of one is a plain call. The others spin briefly,
+// then sleep on a condition variable, between runs: a training step runs the team twice, tens
+// of microseconds apart. An exception thrown by any member is rethrown by run() once every
+// member has finished.
 
+#include <atomic>
 #include <condition_variable>
 #include <exception>
 #include <functional>
@@ -36,8 +38,8 @@ class StepTeam {
   std::mutex mutex_;
   std::condition_variable started_, finished_;
   const std::function<void(int)>* task_ = nullptr;
-  long generation_ = 0;
-  int running_ = 0;
+  std::atomic<long> generation_{0};  // bumped (under the mutex) to start a run
+  std::atomic<int> running_{0};      // members other than 0 still working
   bool stopping_ = false;
   std::exception_ptr failure_;
   std::vector<std::thread> threads_;

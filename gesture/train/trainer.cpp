@@ -214,7 +214,7 @@ void Run::resume_or_start() {
                   " parameters, the network has " + std::to_string(flat_.numel));
     }
     moe_.emplace(shape, options_.schedule.batch_size, options_.threads, moe_buffers(*model_, false),
-                 moe_buffers(*model_, true), span_of(flat_.grads));
+                 moe_buffers(*model_, true));
   }
   if (options_.network == Network::kMotionAutoencoder && !options_.autograd) {
     if (AutoencoderStep::parameter_count() != static_cast<std::size_t>(flat_.numel)) {

@@ -1,8 +1,8 @@
-// deixis-train --threads N for the direct steps (gesture/train/parallel_steps.h): a batch cut
-// into slices across a team gives the loss, the gradients (summed by the optimiser step) and the
-// updated parameters of the whole batch on one thread, to float rounding — for every network,
-// for slices of unequal size and for a member left without clips. Torch-free, so it also runs
-// under ASan and UBSan.
+// deixis-train --threads N for the direct steps (gesture/train/parallel_steps.h): the MoE
+// networks' experts shared out among a team, and the autoencoder's batch cut into slices, give
+// the loss, the gradients and the predictions of the whole step on one thread, to float
+// rounding — for unequal shares, partial batches and a slice left empty. Torch-free, so it also
+// runs under ASan and UBSan.
 
 #include "gesture/train/parallel_steps.h"
 
@@ -41,7 +41,7 @@ double largest_difference(const AlignedFloats& a, const AlignedFloats& b, double
 // parameters themselves are not compared, since Adam's first steps move a parameter by ±lr
 // whatever the size of its gradient, so rounding can flip a near-zero one) and the same
 // predictions fed back.
-void expect_moe_slices_add_up(const MoeShape& shape, int batch_size, int count, int members) {
+void expect_expert_team_is_whole(const MoeShape& shape, int batch_size, int count, int members) {
   Flat one(shape.parameter_count()), team(shape.parameter_count());
   test_data::fill_random(one.values, 0.3f, 7);
   team.values = one.values;  // same size: the buffers stay where they are
@@ -52,9 +52,8 @@ void expect_moe_slices_add_up(const MoeShape& shape, int batch_size, int count, 
   const test_data::FlatMoe layout_one(shape, one.values.data()), grads_one(shape, one.grads.data());
   const test_data::FlatMoe layout_team(shape, team.values.data()),
       grads_team(shape, team.grads.data());
-  ParallelMoeStep single(shape, batch_size, 1, layout_one.buffers, grads_one.buffers, one.grads);
-  ParallelMoeStep sliced(shape, batch_size, members, layout_team.buffers, grads_team.buffers,
-                         team.grads);
+  ParallelMoeStep single(shape, batch_size, 1, layout_one.buffers, grads_one.buffers);
+  ParallelMoeStep sliced(shape, batch_size, members, layout_team.buffers, grads_team.buffers);
   Schedule schedule;
   for (int window = 0; window < 3; ++window) {  // feed predictions back from the second on
     const bool feed_back = shape.pose_columns > 0 && window > 0;
@@ -76,16 +75,15 @@ void expect_moe_slices_add_up(const MoeShape& shape, int batch_size, int count, 
   }
 }
 
-TEST(ParallelSteps, UgnetSlicesAddUpToTheBatch) {
-  expect_moe_slices_add_up(MoeShape::ugnet(), 32, 32, 2);
-  expect_moe_slices_add_up(MoeShape::ugnet(), 32, 13, 3);
+// 2 members: experts 0–3 and 4–8; 4: two or three each; 9: one each.
+TEST(ParallelSteps, UgnetExpertTeamsGiveTheWholeStep) {
+  expect_expert_team_is_whole(MoeShape::ugnet(), 32, 32, 2);
+  expect_expert_team_is_whole(MoeShape::ugnet(), 32, 13, 4);
 }
 
-TEST(ParallelSteps, MpnetSlicesAddUpToTheBatch) {
-  expect_moe_slices_add_up(MoeShape::mpnet(), 16, 16, 2);
-  expect_moe_slices_add_up(MoeShape::mpnet(), 5, 5, 2);
-  // Two clips over three members: the third has none, and adds nothing.
-  expect_moe_slices_add_up(MoeShape::mpnet(), 5, 2, 3);
+TEST(ParallelSteps, MpnetExpertTeamsGiveTheWholeStep) {
+  expect_expert_team_is_whole(MoeShape::mpnet(), 16, 16, 2);
+  expect_expert_team_is_whole(MoeShape::mpnet(), 5, 3, 9);
 }
 
 TEST(ParallelSteps, AutoencoderSlicesAddUpToTheBatch) {
@@ -113,11 +111,15 @@ TEST(ParallelSteps, AutoencoderSlicesAddUpToTheBatch) {
   }
 }
 
-TEST(ParallelSteps, MoreThreadsThanClipsIsAClearError) {
+TEST(ParallelSteps, TeamsTheWorkCannotBeSharedByAreRefused) {
   Flat f(MoeShape::mpnet().parameter_count());
-  const test_data::FlatMoe p(MoeShape::mpnet(), f.values.data()),
-      g(MoeShape::mpnet(), f.grads.data());
-  EXPECT_THROW(ParallelMoeStep(MoeShape::mpnet(), 4, 5, p.buffers, g.buffers, f.grads), Error);
+  const test_data::FlatMoe p(MoeShape::mpnet(), f.values.data());
+  const test_data::FlatMoe g(MoeShape::mpnet(), f.grads.data());
+  // Nine experts cannot be shared by ten threads, nor eight segments by nine.
+  EXPECT_THROW(ParallelMoeStep(MoeShape::mpnet(), 16, 10, p.buffers, g.buffers), Error);
+  Flat a(AutoencoderStep::parameter_count());
+  const test_data::FlatAutoencoder pa(a.values.data()), ga(a.grads.data());
+  EXPECT_THROW(ParallelAutoencoderStep(8, 9, pa.buffers, ga.buffers, a.grads), Error);
 }
 
 }  // namespace
