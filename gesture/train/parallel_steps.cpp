@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "gesture/error.h"
@@ -133,6 +135,7 @@ ParallelMoeStep::ParallelMoeStep(const MoeShape& shape, int batch_size, int memb
                                  const MoeBuffers& parameters, const MoeBuffers& gradients)
     : team_(std::make_unique<StepTeam>(members)),
       sync_(members),
+      batch_size_(batch_size),
       step_(shape, batch_size, members),
       parameters_(parameters),
       gradients_(gradients) {}
@@ -143,8 +146,19 @@ double ParallelMoeStep::window(float* clips, int columns, int window, int count,
   const auto item_stride = static_cast<std::size_t>(kClipRows) * static_cast<std::size_t>(columns);
   const auto row = static_cast<std::size_t>(columns);
   float* newest = clips + static_cast<std::size_t>(kWindowRows - 1 + window) * row;
+  // Checked here, before the team starts: a member that threw between two meetings would leave
+  // the others waiting at the barrier for ever.
+  if (count < 1 || count > batch_size_) {
+    throw Error("ParallelMoeStep: " + std::to_string(count) + " clips, the step holds 1 to " +
+                std::to_string(batch_size_));
+  }
   if (feed_back) {
     const std::span<const float> previous = step_.prediction();
+    if (previous.size() != static_cast<std::size_t>(count * shape.pose_columns) ||
+        shape.pose_columns != shape.expert_out) {
+      throw Error("ParallelMoeStep: no prediction of the previous window to feed back for " +
+                  std::to_string(count) + " clips");
+    }
     for (int i = 0; i < count; ++i) {
       std::copy_n(previous.data() + static_cast<std::size_t>(i * shape.pose_columns),
                   shape.pose_columns, newest + static_cast<std::size_t>(i) * item_stride);
@@ -157,13 +171,29 @@ double ParallelMoeStep::window(float* clips, int columns, int window, int count,
   double loss = 0;
   team_->run([&](int m) {
     const ExpertTeam member{m, team_->size(), &sync_};
-    const double l = step_.forward(parameters_, windows, targets, count, count, member);
-    if (m == 0) {
-      loss = l;
-      forward_end = Clock::now();
+    auto work = [&] {
+      const double l = step_.forward(parameters_, windows, targets, count, count, member);
+      if (m == 0) {
+        loss = l;
+        forward_end = Clock::now();
+      }
+      if (backward) {
+        step_.backward(parameters_, gradients_, member);
+      }
+    };
+    if (member.members == 1) {
+      work();
+      return;
     }
-    if (backward) {
-      step_.backward(parameters_, gradients_, member);
+    // Between meetings nothing may leave a member early: the others would wait for it at the
+    // barrier for ever. (The arguments were checked above; what remains is running out of
+    // memory.) An end with a message beats a hang.
+    try {
+      work();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "deixis-train: training thread %d failed inside a step: %s\n", m,
+                   e.what());
+      std::abort();
     }
   });
   forward_seconds_ = seconds_between(start, forward_end);

@@ -99,6 +99,7 @@ class ParallelMoeStep {
  private:
   std::unique_ptr<StepTeam> team_;
   std::barrier<> sync_;
+  int batch_size_;
   MoeStep step_;
   MoeBuffers parameters_, gradients_;
   double forward_seconds_ = 0, backward_seconds_ = 0;

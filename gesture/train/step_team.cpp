@@ -1,5 +1,6 @@
 #include "gesture/train/step_team.h"
 
+#include <chrono>
 #include <string>
 
 #include "gesture/error.h"
@@ -12,20 +13,27 @@ namespace deixis::train {
 
 namespace {
 
-// A few hundred nanoseconds of busy waiting, easy on the sibling hyperthread.
-void relax() {
-#if defined(__x86_64__) || defined(__i386__)
-  for (int i = 0; i < 16; ++i) {
-    _mm_pause();
-  }
-#else
-  std::this_thread::yield();
-#endif
-}
+// How long a member spins before it sleeps: a training step's team runs come a few to tens of
+// microseconds apart, and waking a sleeping thread costs about as much; between batches (data,
+// checkpoints) and epochs the members sleep.
+constexpr std::chrono::microseconds kSpin{50};
 
-// How long a member spins before it sleeps: a training step's team runs come tens of
-// microseconds apart, and waking a sleeping thread costs about as much.
-constexpr int kSpins = 4000;
+// Busy-waits until done() or kSpin has passed; true if done.
+template <typename Done>
+bool spin_until(Done done) {
+  const auto until = std::chrono::steady_clock::now() + kSpin;
+  while (!done()) {
+    for (int i = 0; i < 8; ++i) {
+#if defined(__x86_64__) || defined(__i386__)
+      _mm_pause();  // easy on a sibling hyperthread
+#endif
+    }
+    if (std::chrono::steady_clock::now() > until) {
+      return false;
+    }
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -70,9 +78,7 @@ void StepTeam::run(const std::function<void(int)>& task) {
   } catch (...) {
     own = std::current_exception();
   }
-  for (int i = 0; i < kSpins && running_.load(std::memory_order_acquire) > 0; ++i) {
-    relax();
-  }
+  spin_until([this] { return running_.load(std::memory_order_acquire) == 0; });
   std::unique_lock lock(mutex_);
   finished_.wait(lock, [this] { return running_.load(std::memory_order_acquire) == 0; });
   task_ = nullptr;
@@ -87,9 +93,7 @@ void StepTeam::run(const std::function<void(int)>& task) {
 void StepTeam::work(int member) {
   long seen = 0;
   for (;;) {
-    for (int i = 0; i < kSpins && generation_.load(std::memory_order_acquire) == seen; ++i) {
-      relax();
-    }
+    spin_until([&] { return generation_.load(std::memory_order_acquire) != seen; });
     const std::function<void(int)>* task = nullptr;
     {
       std::unique_lock lock(mutex_);

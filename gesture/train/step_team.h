@@ -4,9 +4,9 @@
 // slices, each member computes its slice's gradients, then each member sums and updates its own
 // range of the parameters; two team runs per optimiser step.
 //
-// Member 0 is the calling thread, so a team of one is a plain call. The others spin briefly,
-// then sleep on a condition variable, between runs: a training step runs the team twice, tens
-// of microseconds apart. An exception thrown by any member is rethrown by run() once every
+// Member 0 is the calling thread, so a team of one is a plain call. The others spin for up to
+// 50 µs, then sleep on a condition variable, between runs: a training step runs the team twice,
+// microseconds apart. An exception thrown by any member is rethrown by run() once every
 // member has finished.
 
 #include <atomic>

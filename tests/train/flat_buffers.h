@@ -11,14 +11,21 @@
 
 namespace deixis::train::test_data {
 
+// A tensor's place in a flat buffer.
+struct TensorRange {
+  std::size_t offset = 0, count = 0;
+};
+
 // MoeBuffers pointing into `base`, which holds MoeShape::parameter_count() floats.
 struct FlatMoe {
   MoeBuffers buffers;
+  std::vector<TensorRange> tensors;  // in the order they were cut
 
   FlatMoe(const MoeShape& s, float* base) {
     float* next = base;
     auto take = [&](std::size_t n) {
       float* p = next;
+      tensors.push_back({static_cast<std::size_t>(next - base), n});
       next += n;
       return p;
     };
@@ -48,16 +55,22 @@ struct FlatMoe {
 // AutoencoderBuffers pointing into `base`, which holds AutoencoderStep::parameter_count() floats.
 struct FlatAutoencoder {
   AutoencoderBuffers buffers;
+  std::vector<TensorRange> tensors;
 
   explicit FlatAutoencoder(float* base) {
     float* next = base;
+    auto take = [&](std::size_t n) {
+      float* p = next;
+      tensors.push_back({static_cast<std::size_t>(next - base), n});
+      next += n;
+      return p;
+    };
     for (int i = 0; i < 4; ++i) {
       const AutoencoderStep::LayerShape l = AutoencoderStep::layer_shape(i);
-      buffers.weight[i] = next;
-      next += static_cast<std::size_t>(l.in_channels) * static_cast<std::size_t>(l.out_channels) *
-              static_cast<std::size_t>(l.kernel);
-      buffers.bias[i] = next;
-      next += static_cast<std::size_t>(l.out_channels);
+      buffers.weight[i] =
+          take(static_cast<std::size_t>(l.in_channels) * static_cast<std::size_t>(l.out_channels) *
+               static_cast<std::size_t>(l.kernel));
+      buffers.bias[i] = take(static_cast<std::size_t>(l.out_channels));
     }
   }
 };

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <set>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -62,6 +63,21 @@ TEST(StepTeam, AMembersExceptionReachesTheCallerAndTheTeamGoesOn) {
   std::atomic<int> ran{0};
   team.run([&](int) { ++ran; });
   EXPECT_EQ(ran, 2);
+}
+
+TEST(StepTeam, TheCallersOwnExceptionComesFirstAndEveryMemberFinishes) {
+  StepTeam team(3);
+  std::atomic<int> finished{0};
+  try {
+    team.run([&](int m) {
+      ++finished;
+      throw std::runtime_error("member " + std::to_string(m));
+    });
+    FAIL() << "nothing was thrown";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "member 0");
+  }
+  EXPECT_EQ(finished, 3);
 }
 
 TEST(StepTeam, OneMemberIsAPlainCallAndNoneIsRefused) {
