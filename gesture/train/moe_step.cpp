@@ -517,17 +517,10 @@ void MoeStep::gather_condition(WindowBatch windows, int count, float* a) const {
 }
 
 double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch targets, int count,
-                        int whole_batch, ExpertTeam team) {
+                        ExpertTeam team) {
   if (count < 1 || count > max_batch_) {
     throw Error("MoeStep: " + std::to_string(count) + " windows, the buffers hold 1 to " +
                 std::to_string(max_batch_));
-  }
-  if (whole_batch == 0) {
-    whole_batch = count;
-  }
-  if (whole_batch < count) {
-    throw Error("MoeStep: a slice of " + std::to_string(count) + " windows of a batch of " +
-                std::to_string(whole_batch));
   }
   if (team.members != static_cast<int>(members_.size()) ||
       (team.members > 1 && team.sync == nullptr)) {
@@ -558,7 +551,7 @@ double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch ta
   // Output, L1 loss and its gradient (torch: mean |y − target|, sgn(0) = 0; the clamp passes
   // the gradient where 0 ≤ u ≤ 1). Every member takes its own copy of the gradient.
   const int out = shape_.expert_out;
-  const float scale = 1.0f / static_cast<float>(size(whole_batch, out));
+  const float scale = 1.0f / static_cast<float>(size(count, out));
   double loss = 0;
   for (int b = 0; b < count; ++b) {
     const float* target = targets.first + size(b) * targets.item_stride;
@@ -580,7 +573,7 @@ double MoeStep::forward(const MoeBuffers& p, WindowBatch windows, TargetBatch ta
       own.d_output[i] = sign * scale * pass;
     }
   }
-  return loss / static_cast<double>(size(whole_batch, out));
+  return loss / static_cast<double>(size(count, out));
 }
 
 // The GRUs' backward pass (member 0), once every member's ∂L/∂ω and ∂L/∂a₀ are in.

@@ -95,13 +95,10 @@ class MoeStep {
   // Buffers for up to `max_batch` windows and a team of `members` threads, allocated once.
   MoeStep(const MoeShape& shape, int max_batch, int members = 1);
 
-  // Forward pass of `count` ≤ max_batch windows; returns their share of the L1 loss, the mean
-  // over `whole_batch` windows (default: count): a slice of a batch split across threads gives
-  // its part of the whole batch's mean, and the slices' losses and gradients add up to the
-  // batch's.
-  // The predictions (count × expert_out, row-major) stay in prediction() until the next call.
+  // Forward pass of `count` ≤ max_batch windows; returns the L1 loss, the mean over them. The
+  // predictions (count × expert_out, row-major) stay in prediction() until the next call.
   double forward(const MoeBuffers& parameters, WindowBatch windows, TargetBatch targets, int count,
-                 int whole_batch = 0, ExpertTeam team = {});
+                 ExpertTeam team = {});
   // Backward pass of the last forward: the loss's gradient for every parameter, written (not
   // added) into `gradients`.
   void backward(const MoeBuffers& parameters, const MoeBuffers& gradients, ExpertTeam team = {});

@@ -172,7 +172,7 @@ double ParallelMoeStep::window(float* clips, int columns, int window, int count,
   team_->run([&](int m) {
     const ExpertTeam member{m, team_->size(), &sync_};
     auto work = [&] {
-      const double l = step_.forward(parameters_, windows, targets, count, count, member);
+      const double l = step_.forward(parameters_, windows, targets, count, member);
       if (m == 0) {
         loss = l;
         forward_end = Clock::now();
