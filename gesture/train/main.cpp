@@ -61,8 +61,9 @@ void add_common(CLI::App* cmd, Flags& f, const std::string& architectures) {
   cmd->add_option("--seed", f.seed, "Seed of initialisation, shuffling and sampling")
       ->capture_default_str();
   cmd->add_option("--threads", f.threads,
-                  "Threads: each batch split across them (MoE networks and the autoencoder, "
-                  "gesture/train/parallel_steps.h), else libtorch's intra-op threads")
+                  "Threads: MoE networks share out their nine experts (at most 9), the "
+                  "autoencoder splits each batch (gesture/train/parallel_steps.h), the other "
+                  "architectures use them as libtorch's intra-op threads")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   cmd->add_option("--epochs", f.epochs, "Override the schedule's epoch count")
