@@ -8,11 +8,12 @@
 
 #include <array>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "gesture/io/machine.h"
 
 namespace {
 
@@ -30,17 +31,6 @@ std::string command_output(const std::string& command) {
     out.pop_back();
   }
   return out.empty() ? "unknown" : out;
-}
-
-std::string cpu_model() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0) {
-      return line.substr(line.find(':') + 2);
-    }
-  }
-  return "unknown";
 }
 
 // Collects the mean and stddev aggregates and prints them as Markdown at the end.
@@ -78,7 +68,7 @@ class MarkdownReporter : public benchmark::ConsoleReporter {
     std::printf("\ncommit %s, CPU %s, one thread\nflags: %s\n\n",
                 command_output("git -C " DEIXIS_SOURCE_DIR " describe --always --dirty 2>/dev/null")
                     .c_str(),
-                cpu_model().c_str(), DEIXIS_BENCH_FLAGS);
+                deixis::cpu_model().c_str(), DEIXIS_BENCH_FLAGS);
     std::printf("| benchmark | mean (µs) | std (µs) | repetitions |\n|---|---:|---:|---:|\n");
     for (const auto& [name, row] : ordered) {
       std::printf("| %s | %.2f | %.2f | %lld |\n", name.c_str(), row.mean_us, row.std_us,

@@ -11,6 +11,7 @@
 #include "eval/encoder_report.h"
 #include "eval/parallel.h"
 #include "gesture/error.h"
+#include "gesture/io/machine.h"
 
 namespace deixis::eval {
 
@@ -530,6 +531,7 @@ Report evaluate(const EvalOptions& options) {
   report.command = options.command;
   report.data_dir = options.data_dir.string();
   report.quick = options.quick;
+  report.machine = machine_description();
   const std::vector<fs::path> files = test_files(options.data_dir, options.subjects);
   std::vector<TestSet> sets;
   for (const fs::path& f : files) {

@@ -112,7 +112,7 @@ std::string markdown(const Report& report) {
   out << "# Deixis evaluation"
       << (report.quick ? " (--quick: a tiny sample, not the protocol)" : "") << "\n\n"
       << "Produced by `" << report.command << "` on `" << report.data_dir << "` in "
-      << number(report.wall_seconds, 1) << " s. Test subjects:";
+      << number(report.wall_seconds, 1) << " s on " << report.machine << ". Test subjects:";
   for (const std::string& s : report.subjects) {
     out << " " << s;
   }
@@ -138,6 +138,7 @@ std::string json(const Report& report) {
   j["data"] = report.data_dir;
   j["quick"] = report.quick;
   j["wall_seconds"] = report.wall_seconds;
+  j["machine"] = report.machine;
   j["subjects"] = report.subjects;
   j["notes"] = report.notes;
   nlohmann::json tables = nlohmann::json::array();

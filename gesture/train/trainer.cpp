@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "gesture/error.h"
+#include "gesture/io/machine.h"
 #include "gesture/train/adamw.h"
 #include "gesture/train/manifest.h"
 #include "gesture/train/models.h"
@@ -561,11 +562,13 @@ TrainOutcome Run::execute() {
   if (!options_.export_to.empty()) {
     return export_checkpoint();
   }
-  // This binary trains from here on (unless the schedule has already ended and the run is only
-  // re-exported): the manifest will name it among the run's trainers.
+  // This binary, on this machine, trains from here on (unless the schedule has already ended and
+  // the run is only re-exported): the manifest will name it among the run's trainers, so that
+  // its wall time can be read against the CPUs that spent it.
   const bool trains = state_.epoch <= options_.schedule.epochs;
-  if (trains && (state_.trainers.empty() || state_.trainers.back() != build_commit())) {
-    state_.trainers.push_back(build_commit());
+  const std::string trainer = build_commit() + " on " + machine_description();
+  if (trains && (state_.trainers.empty() || state_.trainers.back() != trainer)) {
+    state_.trainers.push_back(trainer);
   }
   const Schedule& schedule = options_.schedule;
   const std::size_t batches = data_.train.count / static_cast<std::size_t>(schedule.batch_size);

@@ -15,6 +15,7 @@
 #include "eval/perturbation.h"
 #include "eval/runs.h"
 #include "gesture/error.h"
+#include "gesture/io/machine.h"
 #include "gesture/io/safetensors.h"
 #include "test_support.h"
 
@@ -252,6 +253,10 @@ TEST_F(EvalRun, QuickRunWritesWellFormedTables) {
   ASSERT_EQ(j["figure5"].size(), 1u);
   EXPECT_EQ(j["figure5"][0]["seconds"].size(), 5u);
   EXPECT_NE(markdown(report).find("## Table IV."), std::string::npos);
+  // The wall time says which machine spent it.
+  EXPECT_EQ(j["machine"], deixis::machine_description());
+  EXPECT_NE(markdown(report).find(" s on " + deixis::machine_description() + "."),
+            std::string::npos);
   // Table I's notes say which encoder measured FMD, per hand (this random one has no manifest,
   // so its reconstruction errors are said to be unknown rather than invented).
   const std::string notes = j["tables"][0]["notes"].dump();

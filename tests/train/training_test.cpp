@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "gesture/error.h"
+#include "gesture/io/machine.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
 #include "gesture/train/checkpoint.h"
@@ -388,9 +389,10 @@ TEST_F(Executable, ResumeAfterKillReproducesTheUninterruptedRun) {
   EXPECT_NE(a["command_line"].get<std::string>().find("--epochs 4"), std::string::npos);
   EXPECT_GT(a["wall_seconds"].get<double>(), 0.0);
   EXPECT_FALSE(a["commit"].get<std::string>().empty());
-  // Trained by this one binary, without and with the interruption; the export names no trainer
-  // of its own.
-  const nlohmann::json one_trainer = nlohmann::json::array({a["commit"]});
+  // Trained by this one binary on this machine, without and with the interruption; the export
+  // names no trainer of its own.
+  const nlohmann::json one_trainer = nlohmann::json::array(
+      {a["commit"].get<std::string>() + " on " + deixis::machine_description()});
   EXPECT_EQ(a["trained_by"], one_trainer);
   EXPECT_EQ(b["trained_by"], one_trainer);
   EXPECT_EQ(p["trained_by"], one_trainer);
