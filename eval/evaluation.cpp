@@ -3,10 +3,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <initializer_list>
 #include <map>
 #include <mutex>
 #include <optional>
+#include <string_view>
+#include <system_error>
 #include <thread>
+#include <utility>
 
 #include "eval/encoder_report.h"
 #include "eval/parallel.h"
@@ -55,12 +60,61 @@ std::string hand_dir(Hand hand) {
   return hand == Hand::kLeft ? "left" : "right";
 }
 
+// "UGNet(Transformer)(AC)" and 120 from "UGNet(Transformer)(AC)120": the file names end with
+// the schedule's epoch count.
+std::pair<std::string, std::string> split_epochs(const std::string& stem) {
+  const std::size_t digits = stem.find_last_not_of("0123456789") + 1;
+  return {stem.substr(0, digits), stem.substr(digits)};
+}
+
+// A row's label for networks found under another epoch count than the full schedule's (a run
+// compressed with deixis-train --compress-to): "Transformer (12 of 120 epochs)".
+std::string label_with_epochs(const std::string& label,
+                              std::initializer_list<std::pair<const char*, std::string>> files) {
+  for (const auto& [wanted, found] : files) {
+    if (found != wanted) {
+      return label + " (" + split_epochs(found).second + " of " + split_epochs(wanted).second +
+             " epochs)";
+    }
+  }
+  return label;
+}
+
 // One weight set's networks, loaded on first use; a missing file is a missing row, a corrupt
 // one an error (deixis::Error names it).
 class Networks {
  public:
   explicit Networks(fs::path dir) : dir_(std::move(dir)) {}
 
+  // The file stem this set holds for a network: the stem itself, or else the same network
+  // trained with its schedule compressed into fewer epochs ("UGNet(Transformer)(AC)12" for
+  // "…(AC)120", tools/train-set); empty if neither. Two such files are an error naming both.
+  std::string resolve(Hand hand, const std::string& stem) const {
+    if (fs::exists(path(hand, stem))) {
+      return stem;
+    }
+    const std::string base = split_epochs(stem).first;
+    std::string found;
+    std::error_code ec;
+    for (const fs::directory_entry& e : fs::directory_iterator(dir_ / hand_dir(hand), ec)) {
+      const std::string name = e.path().filename().string();
+      constexpr std::string_view kSuffix = ".safetensors";
+      if (!name.starts_with(base) || !name.ends_with(kSuffix)) {
+        continue;
+      }
+      const std::string candidate = name.substr(0, name.size() - kSuffix.size());
+      const auto [candidate_base, epochs] = split_epochs(candidate);
+      if (candidate_base != base || epochs.empty()) {
+        continue;
+      }
+      if (!found.empty()) {
+        throw Error((dir_ / hand_dir(hand)).string() + ": both " + found + " and " + candidate +
+                    " stand for " + stem + "; keep one");
+      }
+      found = candidate;
+    }
+    return found;
+  }
   const nn::Mpnet* mpnet(Hand hand, const std::string& stem) {
     return find(mpnets_, hand, stem, [](const fs::path& p) { return nn::Mpnet::load(p); });
   }
@@ -72,14 +126,18 @@ class Networks {
   }
 
  private:
+  // `stem` as resolve() finds it: the caller asks for the full schedule's name.
   template <typename Net, typename Load>
   const Net* find(std::map<std::string, std::optional<Net>>& cache, Hand hand,
                   const std::string& stem, Load load) {
     const std::string key = hand_dir(hand) + "/" + stem;
     auto it = cache.find(key);
     if (it == cache.end()) {
-      const fs::path p = path(hand, stem);
-      it = cache.emplace(key, fs::exists(p) ? std::optional<Net>(load(p)) : std::nullopt).first;
+      const std::string file = resolve(hand, stem);
+      it = cache
+               .emplace(key,
+                        file.empty() ? std::nullopt : std::optional<Net>(load(path(hand, file))))
+               .first;
     }
     return it->second ? &*it->second : nullptr;
   }
@@ -286,7 +344,9 @@ void evaluate_mpnets(const Context& c, const TestSet& set, Networks& networks,
     if (const nn::Mpnet* net = networks.mpnet(set.hand(), m.file)) {
       const MpeResult mpe = run_mpe(*net, set, c.options.sampling);
       const Mean ss = run_state_stability(*net, set, c.options.sampling);
-      put(c.tables.three, m.label, weights, set.subject(),
+      const std::string label =
+          label_with_epochs(m.label, {{m.file, networks.resolve(set.hand(), m.file)}});
+      put(c.tables.three, label, weights, set.subject(),
           {mpe.all.frames ? std::optional<double>(mpe.all.total()) : std::nullopt, ss.value()});
     }
   }
@@ -314,10 +374,13 @@ void evaluate_unit(const Context& c, const TestSet& set, const Unit& unit) {
   }
   const std::optional<nn::MotionEncoder> encoder = find_encoder(c.options, hand);
   const Generator g{mp, ug};
-  evaluate_chain(c, set, g, chain.label, w.label, chain.table1, chain.table4,
+  const std::string label =
+      label_with_epochs(chain.label, {{chain.mpnet, networks.resolve(hand, chain.mpnet)},
+                                      {chain.ugnet, networks.resolve(hand, chain.ugnet)}});
+  evaluate_chain(c, set, g, label, w.label, chain.table1, chain.table4,
                  encoder ? &*encoder : nullptr);
   if (chain.robustness) {
-    evaluate_robustness(c, set, g, chain.label, w.label);
+    evaluate_robustness(c, set, g, label, w.label);
   }
 }
 
@@ -401,9 +464,12 @@ void measure_networks(Tables& t, const EvalOptions& o, std::vector<Networks>& ne
       }
       const double us = seconds_since(start) * 1e6 / kCalls;
       if (!std::isfinite(checksum)) {
-        throw Error(networks[w].path(Hand::kRight, stem).string() + ": non-finite output");
+        throw Error(
+            networks[w].path(Hand::kRight, networks[w].resolve(Hand::kRight, stem)).string() +
+            ": non-finite output");
       }
-      put(t.two, stem, o.weights[w].label, "machine",
+      // The row names the file measured, whose epochs say if its schedule was compressed.
+      put(t.two, networks[w].resolve(Hand::kRight, stem), o.weights[w].label, "machine",
           {static_cast<double>(parameters),
            static_cast<double>(parameters) * 4.0 / (1024.0 * 1024.0), us});
     }

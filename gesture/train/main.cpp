@@ -28,6 +28,7 @@ struct Flags {
   std::uint64_t seed = 1;
   int threads = 1;
   int epochs = 0;
+  int compress_to = 0;
   int batch_size = 0;
   double learning_rate = 0;
   double checkpoint_seconds = 120;
@@ -66,7 +67,13 @@ void add_common(CLI::App* cmd, Flags& f, const std::string& architectures) {
                   "architectures use them as libtorch's intra-op threads")
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
-  cmd->add_option("--epochs", f.epochs, "Override the schedule's epoch count")
+  cmd->add_option("--epochs", f.epochs,
+                  "Override the schedule's epoch count (after --compress-to: cut it short)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--compress-to", f.compress_to,
+                  "Run the whole schedule in this many epochs: scheduled sampling's epochs scale "
+                  "with it and the learning rate ends where the full schedule's does "
+                  "(gesture/train/schedule.h); for where the full schedule cannot run")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--batch-size", f.batch_size, "Override the schedule's batch size")
       ->check(CLI::PositiveNumber);
@@ -133,7 +140,14 @@ int run(Family family, const Flags& f, const std::string& command_line) {
   o.variant = f.variant == "DG" ? Variant::kDeicticOnly : Variant::kAllCategories;
   o.hand = f.hand == "left" ? Hand::kLeft : Hand::kRight;
   o.schedule = default_schedule(family);
-  if (f.epochs > 0) {
+  if (f.compress_to > 0) {
+    try {
+      o.schedule = compressed(o.schedule, f.compress_to);
+    } catch (const deixis::Error& e) {
+      throw deixis::Error(std::string("--compress-to: ") + e.what());
+    }
+  }
+  if (f.epochs > 0) {  // after compressing: a smoke run cuts the compressed schedule short
     o.schedule.epochs = f.epochs;
   }
   if (f.batch_size > 0) {

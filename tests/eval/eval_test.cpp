@@ -308,6 +308,40 @@ TEST_F(EvalRun, TheThreadCountDoesNotChangeTheTables) {
   EXPECT_TRUE(found) << one["tables"][0].dump();
 }
 
+// A network trained with its schedule compressed (deixis-train --compress-to; tools/train-set
+// names it by its epochs) stands in for the full schedule's file, and its rows say so; two such
+// files for one network are an error naming both.
+TEST_F(EvalRun, ACompressedRunIsEvaluatedUnderItsOwnEpochs) {
+  ScratchDir dir;
+  const fs::path mine = dir.path() / "right";
+  const fs::path authors = deixis::testing::reference_dir() / "weights/right";
+  fs::create_directories(mine);
+  fs::copy_file(authors / "MPNet(MoE)(DG)80.safetensors", mine / "MPNet(MoE)(DG)80.safetensors");
+  fs::copy_file(authors / "UGNet(MoE)(DG)120.safetensors", mine / "UGNet(MoE)(DG)12.safetensors");
+  EvalOptions o = quick_options();
+  o.weights = {{"short", dir.path()}};
+  o.subjects = {"161"};
+  const nlohmann::json j = nlohmann::json::parse(json(evaluate(o)));
+  bool found = false;
+  for (const auto& r : j["tables"][0]["rows"]) {
+    EXPECT_NE(r["label"], "MoE (DG)") << "a compressed run's row must say its epochs";
+    if (r["label"] == "MoE (DG) (12 of 120 epochs)" && r["weights"] == "short") {
+      found = r["per_subject"]["161"][0].is_number();
+    }
+  }
+  EXPECT_TRUE(found) << j["tables"][0].dump();
+
+  fs::copy_file(authors / "UGNet(MoE)(DG)120.safetensors", mine / "UGNet(MoE)(DG)13.safetensors");
+  try {
+    evaluate(o);
+    ADD_FAILURE() << "two candidates for one network were not refused";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("UGNet(MoE)(DG)12"), std::string::npos) << what;
+    EXPECT_NE(what.find("UGNet(MoE)(DG)13"), std::string::npos) << what;
+  }
+}
+
 // A weight set with one hand (e.g. a run in progress exported with deixis-train --export-to) is
 // evaluated on that hand's subjects; a subject of the other hand is refused, naming what is
 // missing, before any work starts.

@@ -243,6 +243,33 @@ TEST(Schedule, LearningRateAndScheduledSampling) {
   EXPECT_EQ(ugnet.teacher_forcing_at(120), 0.0);
 }
 
+// A schedule compressed to a tenth of its epochs keeps its shape: scheduled sampling decays over
+// the same share of the run and the last epoch's learning rate is the full schedule's last.
+TEST(Schedule, CompressedKeepsTheShapeOfTheWholeSchedule) {
+  const Schedule full = default_schedule(Family::kUgnet);
+  const Schedule s = compressed(full, 12);
+  EXPECT_EQ(s.epochs, 12);
+  EXPECT_EQ(s.teacher_forcing_epochs, 3);
+  EXPECT_EQ(s.autoregressive_from_epoch, 6);
+  EXPECT_EQ(s.teacher_forcing_at(3), 1.0);
+  EXPECT_NEAR(s.teacher_forcing_at(4), 2.0 / 3.0, 1e-12);
+  EXPECT_EQ(s.teacher_forcing_at(6), 0.0);
+  EXPECT_NEAR(s.learning_rate_at(12), full.learning_rate_at(120), 1e-18);
+  EXPECT_NEAR(s.learning_rate_at(1), full.learning_rate_at(1), 1e-18);
+  EXPECT_EQ(s.batch_size, full.batch_size);
+  // Compressed to its own length it is the schedule itself.
+  const Schedule same = compressed(full, 120);
+  EXPECT_EQ(same.teacher_forcing_epochs, 30);
+  EXPECT_EQ(same.autoregressive_from_epoch, 60);
+  EXPECT_NEAR(same.learning_rate_decay, full.learning_rate_decay, 1e-15);
+  // So short that the decay would vanish: it still takes one epoch.
+  const Schedule two = compressed(full, 2);
+  EXPECT_LT(two.teacher_forcing_epochs, two.autoregressive_from_epoch);
+  EXPECT_EQ(compressed(full, 1).epochs, 1);
+  EXPECT_THROW(compressed(full, 0), deixis::Error);
+  EXPECT_THROW(compressed(full, 121), deixis::Error);
+}
+
 // ---- progress ----
 
 // The ETA follows the pace of the last five epochs: after a run sped up (a faster trainer, a
