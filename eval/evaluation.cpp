@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <initializer_list>
 #include <map>
@@ -67,17 +68,27 @@ std::pair<std::string, std::string> split_epochs(const std::string& stem) {
   return {stem.substr(0, digits), stem.substr(digits)};
 }
 
-// A row's label for networks found under another epoch count than the full schedule's (a run
-// compressed with deixis-train --compress-to): "Transformer (12 of 120 epochs)".
+// Whether `epochs` is a count from 1 to full − 1 written plainly ("12", not "012" or "0").
+bool fewer_epochs(const std::string& epochs, const std::string& full) {
+  if (epochs.empty() || epochs.front() == '0' || epochs.size() > full.size()) {
+    return false;
+  }
+  return std::stoi(epochs) < std::stoi(full);
+}
+
+// A row's label when some of its networks were found under fewer epochs than the full
+// schedule's (deixis-train --compress-to, or a run cut short; their manifests say which), each
+// named: "Transformer (UGNet: 12 of 120 epochs)", "MoE (AC) (MPNet: 40 of 80 epochs; UGNet: …)".
 std::string label_with_epochs(const std::string& label,
                               std::initializer_list<std::pair<const char*, std::string>> files) {
+  std::string notes;
   for (const auto& [wanted, found] : files) {
     if (found != wanted) {
-      return label + " (" + split_epochs(found).second + " of " + split_epochs(wanted).second +
-             " epochs)";
+      notes += (notes.empty() ? "" : "; ") + std::string(wanted).substr(0, 5) + ": " +
+               split_epochs(found).second + " of " + split_epochs(wanted).second + " epochs";
     }
   }
-  return label;
+  return notes.empty() ? label : label + " (" + notes + ")";
 }
 
 // One weight set's networks, loaded on first use; a missing file is a missing row, a corrupt
@@ -87,8 +98,9 @@ class Networks {
   explicit Networks(fs::path dir) : dir_(std::move(dir)) {}
 
   // The file stem this set holds for a network: the stem itself, or else the same network
-  // trained with its schedule compressed into fewer epochs ("UGNet(Transformer)(AC)12" for
-  // "…(AC)120", tools/train-set); empty if neither. Two such files are an error naming both.
+  // trained for fewer epochs, 1 to the full count − 1 ("UGNet(Transformer)(AC)12" for "…(AC)120":
+  // its schedule compressed, tools/train-set); empty if neither. Two such files are an error
+  // naming both.
   std::string resolve(Hand hand, const std::string& stem) const {
     if (fs::exists(path(hand, stem))) {
       return stem;
@@ -104,7 +116,7 @@ class Networks {
       }
       const std::string candidate = name.substr(0, name.size() - kSuffix.size());
       const auto [candidate_base, epochs] = split_epochs(candidate);
-      if (candidate_base != base || epochs.empty()) {
+      if (candidate_base != base || !fewer_epochs(epochs, split_epochs(stem).second)) {
         continue;
       }
       if (!found.empty()) {
@@ -534,12 +546,14 @@ std::vector<Figure5Series> figure5_of(const Table& five, const std::vector<Weigh
   std::vector<Figure5Series> out;
   for (const WeightSet& w : weights) {
     Figure5Series s;
-    s.label = "MoE (AC), " + w.label + " weights";
     for (const int frames : kMissedFrames) {
-      char name[64];
-      std::snprintf(name, sizeof name, "MoE (AC), missed %.1f s", frames / 30.0);
+      // The MoE (AC) chain's rows, whose label may say that its networks had fewer epochs.
+      char suffix[32];
+      std::snprintf(suffix, sizeof suffix, ", missed %.1f s", frames / 30.0);
       for (const TableRow& r : five.rows) {
-        if (r.label == name && r.weights == w.label) {
+        if (r.weights == w.label && r.label.starts_with("MoE (AC)") && r.label.ends_with(suffix)) {
+          s.label =
+              r.label.substr(0, r.label.size() - std::strlen(suffix)) + ", " + w.label + " weights";
           const Values m = r.mean(4);
           if (m[0] && m[1] && m[2] && m[3]) {
             s.seconds.push_back(frames / 30.0);
@@ -567,6 +581,26 @@ void require_hands(const std::vector<WeightSet>& weights, const std::vector<Test
         throw Error(dir.string() + ": no such directory: weight set " + w.label + " has no " +
                     hand_dir(set.hand()) + "-hand networks for subject " + set.subject() +
                     " (leave the subject out with --subjects)");
+      }
+    }
+  }
+}
+
+// A network must have the same epochs in both hands of a weight set: a row averages the
+// subjects of both hands, so a label that differs by hand would split it into two half rows.
+void require_same_epochs_in_both_hands(const std::vector<WeightSet>& weights) {
+  for (const WeightSet& w : weights) {
+    const Networks networks(w.dir);
+    std::vector<const char*> stems(kAllNetworks.begin(), kAllNetworks.end());
+    for (const ChainSpec& chain : kChains) {
+      stems.insert(stems.end(), {chain.mpnet, chain.ugnet});  // the DG pair too
+    }
+    for (const char* stem : stems) {
+      const std::string right = networks.resolve(Hand::kRight, stem);
+      const std::string left = networks.resolve(Hand::kLeft, stem);
+      if (!right.empty() && !left.empty() && right != left) {
+        throw Error(w.dir.string() + ": weight set " + w.label + " holds right/" + right +
+                    " but left/" + left + "; train both hands with the same schedule");
       }
     }
   }
@@ -612,6 +646,7 @@ Report evaluate(const EvalOptions& options) {
     }
   }
   require_hands(options.weights, sets);
+  require_same_epochs_in_both_hands(options.weights);
   std::vector<Networks> networks;
   for (const WeightSet& w : options.weights) {
     networks.emplace_back(w.dir);

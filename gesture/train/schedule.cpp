@@ -27,18 +27,15 @@ double Schedule::teacher_forcing_at(int epoch) const {
 }
 
 Schedule compressed(const Schedule& full, int epochs) {
-  if (epochs < 1 || epochs > full.epochs) {
+  if (epochs < 2 || epochs > full.epochs) {
     throw Error("a schedule of " + std::to_string(full.epochs) +
-                " epochs can be compressed to 1 to " + std::to_string(full.epochs) +
+                " epochs can be compressed to 2 to " + std::to_string(full.epochs) +
                 " epochs, not " + std::to_string(epochs));
   }
   Schedule s = full;
   s.epochs = epochs;
-  if (epochs > 1) {
-    s.learning_rate_decay =
-        std::pow(full.learning_rate_decay,
-                 static_cast<double>(full.epochs - 1) / static_cast<double>(epochs - 1));
-  }
+  s.learning_rate_decay = std::pow(full.learning_rate_decay, static_cast<double>(full.epochs - 1) /
+                                                                 static_cast<double>(epochs - 1));
   const double scale = static_cast<double>(epochs) / static_cast<double>(full.epochs);
   s.teacher_forcing_epochs = static_cast<int>(std::lround(full.teacher_forcing_epochs * scale));
   s.autoregressive_from_epoch =

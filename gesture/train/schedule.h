@@ -40,10 +40,10 @@ Schedule default_schedule(Family family);
 // The whole of `full` run in `epochs` epochs, for where the full schedule cannot run (UGNet
 // Transformer: ≈ 90 hours of a core per hand on the 2-core machine, docs/training.md). Unlike
 // cutting the schedule short (--epochs), every epoch-indexed part scales with it: scheduled
-// sampling's teacher-forcing and autoregressive epochs in proportion (rounded, and kept at least
-// one epoch apart so that the linear decay exists), and the per-epoch learning-rate decay raised
-// to (full − 1) / (epochs − 1), so that the last epoch trains at the full schedule's last rate.
-// `epochs` must be at least 1 and at most full.epochs.
+// sampling's teacher-forcing and autoregressive epochs in proportion (rounded, and the second
+// kept after the first; below about 4 epochs no epoch is left with a fractional P), and the
+// per-epoch learning-rate decay raised to (full − 1) / (epochs − 1), so that the last epoch
+// trains at the full schedule's last rate. `epochs` must be from 2 to full.epochs.
 Schedule compressed(const Schedule& full, int epochs);
 
 // Clip and window geometry (paper §III.A, NOTES §6).

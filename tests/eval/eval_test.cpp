@@ -325,11 +325,34 @@ TEST_F(EvalRun, ACompressedRunIsEvaluatedUnderItsOwnEpochs) {
   bool found = false;
   for (const auto& r : j["tables"][0]["rows"]) {
     EXPECT_NE(r["label"], "MoE (DG)") << "a compressed run's row must say its epochs";
-    if (r["label"] == "MoE (DG) (12 of 120 epochs)" && r["weights"] == "short") {
+    if (r["label"] == "MoE (DG) (UGNet: 12 of 120 epochs)" && r["weights"] == "short") {
       found = r["per_subject"]["161"][0].is_number();
     }
   }
   EXPECT_TRUE(found) << j["tables"][0].dump();
+
+  // Both networks of the row with fewer epochs: the label names each.
+  fs::rename(mine / "MPNet(MoE)(DG)80.safetensors", mine / "MPNet(MoE)(DG)40.safetensors");
+  const nlohmann::json both = nlohmann::json::parse(json(evaluate(o)));
+  found = false;
+  for (const auto& r : both["tables"][0]["rows"]) {
+    found |= r["label"] == "MoE (DG) (MPNet: 40 of 80 epochs; UGNet: 12 of 120 epochs)";
+  }
+  EXPECT_TRUE(found) << both["tables"][0].dump();
+
+  // A network with other epochs in the other hand would split its row: refused, naming both.
+  fs::create_directories(dir.path() / "left");
+  fs::copy_file(authors / "UGNet(MoE)(DG)120.safetensors",
+                dir.path() / "left/UGNet(MoE)(DG)120.safetensors");
+  try {
+    evaluate(o);
+    ADD_FAILURE() << "a network with other epochs in each hand was not refused";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("right/UGNet(MoE)(DG)12"), std::string::npos) << what;
+    EXPECT_NE(what.find("left/UGNet(MoE)(DG)120"), std::string::npos) << what;
+  }
+  fs::remove_all(dir.path() / "left");
 
   fs::copy_file(authors / "UGNet(MoE)(DG)120.safetensors", mine / "UGNet(MoE)(DG)13.safetensors");
   try {
@@ -340,6 +363,24 @@ TEST_F(EvalRun, ACompressedRunIsEvaluatedUnderItsOwnEpochs) {
     EXPECT_NE(what.find("UGNet(MoE)(DG)12"), std::string::npos) << what;
     EXPECT_NE(what.find("UGNet(MoE)(DG)13"), std::string::npos) << what;
   }
+}
+
+// The robustness rows of a MoE (AC) pair with fewer epochs carry its label, and Fig. 5 still
+// plots them under it.
+TEST_F(EvalRun, Figure5FollowsAMoePairWithFewerEpochs) {
+  ScratchDir dir;
+  const fs::path mine = dir.path() / "right";
+  const fs::path authors = deixis::testing::reference_dir() / "weights/right";
+  fs::create_directories(mine);
+  fs::copy_file(authors / "MPNet(MoE)(AC)80.safetensors", mine / "MPNet(MoE)(AC)80.safetensors");
+  fs::copy_file(authors / "UGNet(MoE)(AC)120.safetensors", mine / "UGNet(MoE)(AC)60.safetensors");
+  EvalOptions o = quick_options();
+  o.weights = {{"short", dir.path()}};
+  o.subjects = {"161"};
+  const Report report = evaluate(o);
+  ASSERT_EQ(report.figure5.size(), 1u);
+  EXPECT_EQ(report.figure5[0].label, "MoE (AC) (UGNet: 60 of 120 epochs), short weights");
+  EXPECT_EQ(report.figure5[0].seconds.size(), 5u);
 }
 
 // A weight set with one hand (e.g. a run in progress exported with deixis-train --export-to) is

@@ -262,10 +262,13 @@ TEST(Schedule, CompressedKeepsTheShapeOfTheWholeSchedule) {
   EXPECT_EQ(same.teacher_forcing_epochs, 30);
   EXPECT_EQ(same.autoregressive_from_epoch, 60);
   EXPECT_NEAR(same.learning_rate_decay, full.learning_rate_decay, 1e-15);
-  // So short that the decay would vanish: it still takes one epoch.
+  // Two epochs: the first teacher-forced, the second autoregressive, ending at the last rate.
   const Schedule two = compressed(full, 2);
-  EXPECT_LT(two.teacher_forcing_epochs, two.autoregressive_from_epoch);
-  EXPECT_EQ(compressed(full, 1).epochs, 1);
+  EXPECT_EQ(two.teacher_forcing_at(1), 1.0);
+  EXPECT_EQ(two.teacher_forcing_at(2), 0.0);
+  EXPECT_NEAR(two.learning_rate_at(2), full.learning_rate_at(120), 1e-18);
+  // One epoch cannot hold the schedule's shape.
+  EXPECT_THROW(compressed(full, 1), deixis::Error);
   EXPECT_THROW(compressed(full, 0), deixis::Error);
   EXPECT_THROW(compressed(full, 121), deixis::Error);
 }
