@@ -160,6 +160,21 @@ class EvalRun : public ::testing::Test {
     o.command = "eval_test";
     return o;
   }
+  // A weight set "short" in `dir` holding two of the authors' right-hand networks under the file
+  // names given (a stem with other epochs stands for a run with fewer), evaluated on subject 161.
+  static EvalOptions renamed_pair(const ScratchDir& dir, const std::string& mpnet_from,
+                                  const std::string& mpnet_to, const std::string& ugnet_from,
+                                  const std::string& ugnet_to) {
+    const fs::path mine = dir.path() / "right";
+    const fs::path authors = deixis::testing::reference_dir() / "weights/right";
+    fs::create_directories(mine);
+    fs::copy_file(authors / (mpnet_from + ".safetensors"), mine / (mpnet_to + ".safetensors"));
+    fs::copy_file(authors / (ugnet_from + ".safetensors"), mine / (ugnet_to + ".safetensors"));
+    EvalOptions o = quick_options();
+    o.weights = {{"short", dir.path()}};
+    o.subjects = {"161"};
+    return o;
+  }
   static ScratchDir* scratch_;
 };
 ScratchDir* EvalRun::scratch_ = nullptr;
@@ -315,12 +330,8 @@ TEST_F(EvalRun, ACompressedRunIsEvaluatedUnderItsOwnEpochs) {
   ScratchDir dir;
   const fs::path mine = dir.path() / "right";
   const fs::path authors = deixis::testing::reference_dir() / "weights/right";
-  fs::create_directories(mine);
-  fs::copy_file(authors / "MPNet(MoE)(DG)80.safetensors", mine / "MPNet(MoE)(DG)80.safetensors");
-  fs::copy_file(authors / "UGNet(MoE)(DG)120.safetensors", mine / "UGNet(MoE)(DG)12.safetensors");
-  EvalOptions o = quick_options();
-  o.weights = {{"short", dir.path()}};
-  o.subjects = {"161"};
+  const EvalOptions o = renamed_pair(dir, "MPNet(MoE)(DG)80", "MPNet(MoE)(DG)80",
+                                     "UGNet(MoE)(DG)120", "UGNet(MoE)(DG)12");
   const nlohmann::json j = nlohmann::json::parse(json(evaluate(o)));
   bool found = false;
   for (const auto& r : j["tables"][0]["rows"]) {
@@ -369,15 +380,8 @@ TEST_F(EvalRun, ACompressedRunIsEvaluatedUnderItsOwnEpochs) {
 // plots them under it.
 TEST_F(EvalRun, Figure5FollowsAMoePairWithFewerEpochs) {
   ScratchDir dir;
-  const fs::path mine = dir.path() / "right";
-  const fs::path authors = deixis::testing::reference_dir() / "weights/right";
-  fs::create_directories(mine);
-  fs::copy_file(authors / "MPNet(MoE)(AC)80.safetensors", mine / "MPNet(MoE)(AC)80.safetensors");
-  fs::copy_file(authors / "UGNet(MoE)(AC)120.safetensors", mine / "UGNet(MoE)(AC)60.safetensors");
-  EvalOptions o = quick_options();
-  o.weights = {{"short", dir.path()}};
-  o.subjects = {"161"};
-  const Report report = evaluate(o);
+  const Report report = evaluate(renamed_pair(dir, "MPNet(MoE)(AC)80", "MPNet(MoE)(AC)80",
+                                              "UGNet(MoE)(AC)120", "UGNet(MoE)(AC)60"));
   ASSERT_EQ(report.figure5.size(), 1u);
   EXPECT_EQ(report.figure5[0].label, "MoE (AC) (UGNet: 60 of 120 epochs), short weights");
   EXPECT_EQ(report.figure5[0].seconds.size(), 5u);
