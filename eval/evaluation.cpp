@@ -105,7 +105,7 @@ class Networks {
     if (fs::exists(path(hand, stem))) {
       return stem;
     }
-    const std::string base = split_epochs(stem).first;
+    const auto [base, full] = split_epochs(stem);
     std::string found;
     std::error_code ec;
     for (const fs::directory_entry& e : fs::directory_iterator(dir_ / hand_dir(hand), ec)) {
@@ -116,7 +116,7 @@ class Networks {
       }
       const std::string candidate = name.substr(0, name.size() - kSuffix.size());
       const auto [candidate_base, epochs] = split_epochs(candidate);
-      if (candidate_base != base || !fewer_epochs(epochs, split_epochs(stem).second)) {
+      if (candidate_base != base || !fewer_epochs(epochs, full)) {
         continue;
       }
       if (!found.empty()) {
@@ -475,13 +475,12 @@ void measure_networks(Tables& t, const EvalOptions& o, std::vector<Networks>& ne
         }
       }
       const double us = seconds_since(start) * 1e6 / kCalls;
-      if (!std::isfinite(checksum)) {
-        throw Error(
-            networks[w].path(Hand::kRight, networks[w].resolve(Hand::kRight, stem)).string() +
-            ": non-finite output");
-      }
       // The row names the file measured, whose epochs say if its schedule was compressed.
-      put(t.two, networks[w].resolve(Hand::kRight, stem), o.weights[w].label, "machine",
+      const std::string file = networks[w].resolve(Hand::kRight, stem);
+      if (!std::isfinite(checksum)) {
+        throw Error(networks[w].path(Hand::kRight, file).string() + ": non-finite output");
+      }
+      put(t.two, file, o.weights[w].label, "machine",
           {static_cast<double>(parameters),
            static_cast<double>(parameters) * 4.0 / (1024.0 * 1024.0), us});
     }

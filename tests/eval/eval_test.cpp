@@ -175,6 +175,17 @@ class EvalRun : public ::testing::Test {
     o.subjects = {"161"};
     return o;
   }
+  // The message with which evaluate() refuses `o`; a failure (`why` says what got through) and
+  // an empty message when it does not.
+  static std::string refusal(const EvalOptions& o, const char* why) {
+    try {
+      evaluate(o);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    ADD_FAILURE() << why;
+    return "";
+  }
   static ScratchDir* scratch_;
 };
 ScratchDir* EvalRun::scratch_ = nullptr;
@@ -355,25 +366,15 @@ TEST_F(EvalRun, ACompressedRunIsEvaluatedUnderItsOwnEpochs) {
   fs::create_directories(dir.path() / "left");
   fs::copy_file(authors / "UGNet(MoE)(DG)120.safetensors",
                 dir.path() / "left/UGNet(MoE)(DG)120.safetensors");
-  try {
-    evaluate(o);
-    ADD_FAILURE() << "a network with other epochs in each hand was not refused";
-  } catch (const Error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("right/UGNet(MoE)(DG)12"), std::string::npos) << what;
-    EXPECT_NE(what.find("left/UGNet(MoE)(DG)120"), std::string::npos) << what;
-  }
+  const std::string mixed = refusal(o, "a network with other epochs in each hand was not refused");
+  EXPECT_NE(mixed.find("right/UGNet(MoE)(DG)12"), std::string::npos) << mixed;
+  EXPECT_NE(mixed.find("left/UGNet(MoE)(DG)120"), std::string::npos) << mixed;
   fs::remove_all(dir.path() / "left");
 
   fs::copy_file(authors / "UGNet(MoE)(DG)120.safetensors", mine / "UGNet(MoE)(DG)13.safetensors");
-  try {
-    evaluate(o);
-    ADD_FAILURE() << "two candidates for one network were not refused";
-  } catch (const Error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("UGNet(MoE)(DG)12"), std::string::npos) << what;
-    EXPECT_NE(what.find("UGNet(MoE)(DG)13"), std::string::npos) << what;
-  }
+  const std::string two = refusal(o, "two candidates for one network were not refused");
+  EXPECT_NE(two.find("UGNet(MoE)(DG)12"), std::string::npos) << two;
+  EXPECT_NE(two.find("UGNet(MoE)(DG)13"), std::string::npos) << two;
 }
 
 // The robustness rows of a MoE (AC) pair with fewer epochs carry its label, and Fig. 5 still
@@ -410,14 +411,10 @@ TEST_F(EvalRun, AOneHandedWeightSetServesItsHandsSubjectsOnly) {
   EXPECT_TRUE(found) << j["tables"][0].dump();
 
   o.subjects = {"161", "173"};
-  try {
-    evaluate(o);
-    ADD_FAILURE() << "a left-handed subject was evaluated without left-hand networks";
-  } catch (const Error& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find((dir.path() / "left").string()), std::string::npos) << what;
-    EXPECT_NE(what.find("subject 173"), std::string::npos) << what;
-  }
+  const std::string what =
+      refusal(o, "a left-handed subject was evaluated without left-hand networks");
+  EXPECT_NE(what.find((dir.path() / "left").string()), std::string::npos) << what;
+  EXPECT_NE(what.find("subject 173"), std::string::npos) << what;
 }
 
 TEST_F(EvalRun, RefusesTrainingSubjectData) {
