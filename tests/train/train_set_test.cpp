@@ -141,6 +141,18 @@ TEST(TrainSet, BadOptionsAndMissingDataExitTwoNamingThem) {
                               scratch.path());
   EXPECT_EQ(trainer.exit_code, 2);
   EXPECT_NE(trainer.output.find("--fast"), std::string::npos) << trainer.output;
+
+  // A schedule cannot be compressed into more epochs than it has: refused before any data is read.
+  const Outcome compress =
+      run(concat(quoted(DEIXIS_TRAIN_EXE), " mpnet --data ", train_set(), " --out ",
+                 quoted((scratch.path() / "t").string()), " --compress-to 200"),
+          scratch.path());
+  EXPECT_EQ(compress.exit_code, 2);
+  EXPECT_NE(compress.output.find("--compress-to: a schedule of 80 epochs can be compressed to 2 "
+                                 "to 80 epochs, not 200"),
+            std::string::npos)
+      << compress.output;
+  EXPECT_FALSE(fs::exists(scratch.path() / "t/checkpoint.safetensors"));
 }
 
 TEST(TrainSet, AFailingRunFailsTheCommandAndShowsWhy) {
