@@ -52,6 +52,25 @@ void ugnet_bench(benchmark::State& state, const char* checkpoint, const char* fi
   }
 }
 
+// The diffusion UGNet on 64 windows at once (Ugnet::run_batch, what deixis eval's chains use);
+// the time per iteration is for all 64, so divide by 64 for a window's share.
+void BM_UgnetDiffusionBatchOf64(benchmark::State& state) {
+  constexpr std::size_t kBatch = 64;
+  const nn::Ugnet net =
+      nn::Ugnet::load(reference_dir() / "weights/right/UGNet(Diffusion)(AC)120.safetensors");
+  const std::vector<float> window =
+      fixture_window("UGNet_Diffusion_right.safetensors", "input", nn::kUgnetWindowSize);
+  std::vector<float> windows, noise(kBatch * nn::kDiffusionNoiseSize, 0.1f);
+  for (std::size_t i = 0; i < kBatch; ++i) {
+    windows.insert(windows.end(), window.begin(), window.end());
+  }
+  std::vector<float> out(kBatch * nn::kPoseSize);
+  for (auto _ : state) {
+    net.run_batch(windows, noise, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+
 // One translator tick's networks: MPNet MoE then UGNet MoE (the goal: ≤ 40 µs together).
 void BM_MpnetMoePlusUgnetMoe(benchmark::State& state) {
   const fs::path w = reference_dir() / "weights/right";
@@ -107,5 +126,6 @@ BENCHMARK_CAPTURE(ugnet_bench, UGNet_Transformer, "UGNet(Transformer)(AC)120.saf
 BENCHMARK_CAPTURE(ugnet_bench, UGNet_Diffusion, "UGNet(Diffusion)(AC)120.safetensors",
                   "UGNet_Diffusion_right.safetensors")
     ->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_UgnetDiffusionBatchOf64)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Amnet)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MpnetMoePlusUgnetMoe)->Unit(benchmark::kMicrosecond);

@@ -169,6 +169,66 @@ std::vector<EndEffectors> run_chain(const Generator& g, const AlignedPair& pair,
   return out;
 }
 
+std::vector<std::vector<EndEffectors>> run_chains(const Generator& g,
+                                                  std::span<const AlignedPair> pairs, float scale,
+                                                  std::span<const std::uint64_t> seeds) {
+  std::vector<std::vector<EndEffectors>> out;
+  out.reserve(pairs.size());
+  if (g.copy_paste() || !g.ugnet->needs_noise()) {
+    // Only the diffusion UGNet gains from the batch (matrix–vector → matrix–matrix); the others'
+    // per-window cost is their own weights' reads either way.
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      out.push_back(run_chain(g, pairs[i], scale, seeds[i]));
+    }
+    return out;
+  }
+  // run_chain()'s steps, chain by chain, with UGNet's calls of one frame gathered.
+  std::vector<TranslationLoop> loops;
+  std::vector<std::mt19937_64> rngs;
+  std::vector<float> buffer;
+  loops.reserve(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    rngs.push_back(stream(seeds[i], 0x636861696e));
+    loops.emplace_back(*g.mpnet, *g.ugnet, scale);
+    loops[i].reset(pairs[i].frames.front(), pairs[i].avatar_initial,
+                   draws(*g.ugnet, rngs[i], buffer));
+    out.emplace_back().reserve(pairs[i].frames.size());
+    out[i].push_back(loops[i].prediction());
+  }
+  std::vector<std::size_t> active;
+  std::vector<TranslationStep> steps;
+  std::vector<float> windows, noise, predictions;
+  for (std::size_t k = 0;; ++k) {
+    active.clear();
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      if (k + 1 < pairs[i].frames.size()) {
+        active.push_back(i);
+      }
+    }
+    if (active.empty()) {
+      return out;
+    }
+    steps.resize(active.size());
+    windows.resize(active.size() * nn::kUgnetWindowSize);
+    noise.resize(active.size() * nn::kDiffusionNoiseSize);
+    predictions.resize(active.size() * nn::kPoseSize);
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      const std::size_t i = active[a];
+      steps[a] = loops[i].begin_step(pairs[i].frames[k]);
+      std::ranges::copy(loops[i].ugnet_window(), windows.begin() + a * nn::kUgnetWindowSize);
+      std::ranges::copy(draws(*g.ugnet, rngs[i], buffer),
+                        noise.begin() + a * nn::kDiffusionNoiseSize);
+    }
+    g.ugnet->run_batch(windows, noise, predictions);
+    for (std::size_t a = 0; a < active.size(); ++a) {
+      nn::PoseVector x;
+      std::copy_n(predictions.begin() + a * nn::kPoseSize, nn::kPoseSize, x.begin());
+      loops[active[a]].end_step(x, steps[a]);
+      out[active[a]].push_back(steps[a].prediction);
+    }
+  }
+}
+
 PointingError dip_pointing(const EndEffectors& x, const Vec3& target_in_root) {
   return pointing_error(deictic_chain(x), target_in_root);
 }
@@ -176,24 +236,30 @@ PointingError dip_pointing(const EndEffectors& x, const Vec3& target_in_root) {
 DipResult run_dip(const Generator& g, const TestSet& set, const Sampling& sampling) {
   DipResult r;
   for (const Category c : kSingleTarget) {
+    // A category's pairs are chained together (run_chains), then measured in order.
+    std::vector<AlignedPair> pairs;
+    std::vector<std::uint64_t> seeds;
     const std::vector<std::size_t> list = selected(set, c, sampling);
     for (std::size_t i = 0; i < list.size(); ++i) {
       for (const std::size_t j : partners_of(list, i, sampling.dip_partners)) {
-        const std::optional<AlignedPair> pair = align_at_completion(set, list[i], j);
+        std::optional<AlignedPair> pair = align_at_completion(set, list[i], j);
         if (!pair) {
           ++r.skipped;
           continue;
         }
-        const std::vector<EndEffectors> x =
-            run_chain(g, *pair, scale_of(set), sampling.seed ^ (list[i] * 1000 + j));
-        const DeicticChain chain = deictic_chain(x.back());
-        if (capture::is_touching(c)) {
-          r.pe.add(touching_error_cm(chain, pair->avatar_target));
-        } else {
-          const PointingError e = pointing_error(chain, pair->avatar_target);
-          r.he.add(e.horizontal_deg);
-          r.ve.add(e.vertical_deg);
-        }
+        pairs.push_back(std::move(*pair));
+        seeds.push_back(sampling.seed ^ (list[i] * 1000 + j));
+      }
+    }
+    const std::vector<std::vector<EndEffectors>> x = run_chains(g, pairs, scale_of(set), seeds);
+    for (std::size_t p = 0; p < pairs.size(); ++p) {
+      const DeicticChain chain = deictic_chain(x[p].back());
+      if (capture::is_touching(c)) {
+        r.pe.add(touching_error_cm(chain, pairs[p].avatar_target));
+      } else {
+        const PointingError e = pointing_error(chain, pairs[p].avatar_target);
+        r.he.add(e.horizontal_deg);
+        r.ve.add(e.vertical_deg);
       }
     }
   }
@@ -301,14 +367,21 @@ std::vector<double> run_fmd(const Generator& g, const nn::MotionEncoder& encoder
         continue;
       }
       std::uniform_int_distribution<std::size_t> pick(0, list.size() - 1);
+      std::vector<AlignedPair> pairs;
+      std::vector<std::uint64_t> seeds;
       for (const std::size_t user : list) {
-        const AlignedPair pair = align_whole(set, user, list[pick(rng)]);
+        pairs.push_back(align_whole(set, user, list[pick(rng)]));
+        seeds.push_back(rng());
+      }
+      const std::vector<std::vector<EndEffectors>> chained =
+          run_chains(g, pairs, scale_of(set), seeds);
+      for (std::size_t p = 0; p < pairs.size(); ++p) {
         std::vector<EndEffectors> motion;
-        for (const TranslationInput& f : pair.frames) {
+        for (const TranslationInput& f : pairs[p].frames) {
           motion.push_back(f.user_x);
         }
         encode_segments(encoder, motion, real);
-        encode_segments(encoder, run_chain(g, pair, scale_of(set), rng()), generated);
+        encode_segments(encoder, chained[p], generated);
       }
     }
     if (real.size() >= 2 && generated.size() >= 2) {

@@ -83,6 +83,12 @@ void TranslationLoop::reset(const TranslationInput& first, const EndEffectors& a
 }
 
 TranslationStep TranslationLoop::step(const TranslationInput& frame, std::span<const float> noise) {
+  TranslationStep out = begin_step(frame);
+  end_step(ugnet_.run(ugnet_window_, noise), out);
+  return out;
+}
+
+TranslationStep TranslationLoop::begin_step(const TranslationInput& frame) {
   TranslationStep out;
   out.head_weight = counters_.head_weight();
   out.hand_weight = counters_.hand_weight();
@@ -91,10 +97,14 @@ TranslationStep TranslationLoop::step(const TranslationInput& frame, std::span<c
 
   push_user_row(frame);
   push_avatar_row(out.avatar_x, frame.avatar_target);
-  run_networks(noise);
+  run_mpnet();
   out.progression = progression_;
-  out.prediction = prediction_;
   return out;
+}
+
+void TranslationLoop::end_step(const nn::PoseVector& prediction, TranslationStep& step) {
+  prediction_ = prediction;
+  step.prediction = prediction_;
 }
 
 void TranslationLoop::push_user_row(const TranslationInput& frame) {
@@ -111,10 +121,16 @@ void TranslationLoop::push_avatar_row(const EndEffectors& avatar_x, const Target
 }
 
 void TranslationLoop::run_networks(std::span<const float> noise) {
+  run_mpnet();
+  prediction_ = ugnet_.run(ugnet_window_, noise);
+}
+
+// MPNet on the user's window; its progression goes into the avatar's newest row (which UGNet
+// reads next) and drives the blend counters of the next step.
+void TranslationLoop::run_mpnet() {
   progression_ = mpnet_.run(mpnet_window_).progression;
   std::copy(progression_.begin(), progression_.end(),
             ugnet_window_.end() - kAvatarColumns + kProgressionAt);
-  prediction_ = ugnet_.run(ugnet_window_, noise);
   counters_.update(progression_);
 }
 

@@ -77,6 +77,13 @@ class TranslationLoop {
   // x); then MPNet and UGNet run on the windows ending at this frame. Allocation-free.
   TranslationStep step(const TranslationInput& frame, std::span<const float> noise = {});
 
+  // step() in two halves, so that many loops' UGNets can run as one batch (deixis eval's
+  // chains, nn::Ugnet::run_batch): begin_step() does all of a step but UGNet and returns it
+  // without its prediction; the caller runs UGNet on ugnet_window() and hands the result to
+  // end_step(), which completes the step. step() is exactly that with ugnet.run().
+  TranslationStep begin_step(const TranslationInput& frame);
+  void end_step(const nn::PoseVector& prediction, TranslationStep& step);
+
   // The windows as the networks last read them (oldest row first), for tests and tools.
   std::span<const float, nn::kMpnetWindowSize> mpnet_window() const { return mpnet_window_; }
   std::span<const float, nn::kUgnetWindowSize> ugnet_window() const { return ugnet_window_; }
@@ -93,6 +100,7 @@ class TranslationLoop {
 
  private:
   void run_networks(std::span<const float> noise);
+  void run_mpnet();
   void push_user_row(const TranslationInput& frame);
   void push_avatar_row(const EndEffectors& avatar_x, const TargetFeature& target);
 

@@ -1,5 +1,7 @@
 #include "gesture/nn/ugnet.h"
 
+#include <stdexcept>
+#include <string>
 #include <variant>
 
 #include "gesture/error.h"
@@ -82,6 +84,28 @@ PoseVector Ugnet::run(UgnetWindow window, std::span<const float> noise,
         }
       },
       networks_->net);
+}
+
+void Ugnet::run_batch(std::span<const float> windows, std::span<const float> noise,
+                      std::span<float> out) const {
+  const std::size_t count = out.size() / kPoseSize;
+  if (out.size() % kPoseSize != 0 || windows.size() != count * kUgnetWindowSize ||
+      (!noise.empty() && noise.size() != count * kDiffusionNoiseSize)) {
+    throw std::invalid_argument("Ugnet::run_batch: " + std::to_string(windows.size()) +
+                                " window values, " + std::to_string(noise.size()) + " draws and " +
+                                std::to_string(out.size()) + " outputs are not whole windows (" +
+                                std::to_string(kUgnetWindowSize) + "), draws (" +
+                                std::to_string(kDiffusionNoiseSize) + " or none) and poses (" +
+                                std::to_string(kPoseSize) + ") of one count");
+  }
+  if (const auto* diffusion = std::get_if<UgnetDiffusion>(&networks_->net)) {
+    diffusion->run_batch(windows, noise, out);
+    return;
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const PoseVector x = run(UgnetWindow(windows.subspan(i * kUgnetWindowSize, kUgnetWindowSize)));
+    std::copy(x.begin(), x.end(), out.begin() + static_cast<std::ptrdiff_t>(i * kPoseSize));
+  }
 }
 
 }  // namespace deixis::nn

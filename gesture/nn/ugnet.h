@@ -40,6 +40,15 @@ class Ugnet {
   PoseVector run(UgnetWindow window, std::span<const float> noise = {},
                  UgnetTrace* trace = nullptr) const noexcept;
 
+  // run() on `out.size() / kPoseSize` windows, for offline work over many sequences (deixis
+  // eval): window i is windows[i·kUgnetWindowSize …], its draws noise[i·kDiffusionNoiseSize …]
+  // (or none: `noise` empty), its prediction out[i·kPoseSize …]. The diffusion variant
+  // denoises the windows as one batch (matrix–matrix products; its results equal run()'s up to
+  // float rounding), the others call run() per window. Unlike run(), it allocates; sizes that
+  // do not fit together throw std::invalid_argument.
+  void run_batch(std::span<const float> windows, std::span<const float> noise,
+                 std::span<float> out) const;
+
   struct Networks;  // the loaded weights of one architecture (ugnet.cpp)
 
  private:

@@ -106,6 +106,10 @@ struct UgnetDiffusion {
   static bool recognises(const SafetensorsFile& file);
   void load(const SafetensorsFile& file);
   PoseVector run(UgnetWindow window, std::span<const float> noise, UgnetTrace* trace) const;
+  // run() on many windows (Ugnet::run_batch): each layer's products over a chunk of windows at
+  // once, matrix by matrix, so the 2.6 MB of weights are read once per chunk, not per window.
+  void run_batch(std::span<const float> windows, std::span<const float> noise,
+                 std::span<float> out) const;
   static constexpr std::size_t kParameters = 683588;
 };
 

@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "gesture/nn/ugnet_architectures.h"
@@ -84,6 +86,35 @@ Eigen::Matrix<float, Diffusion::kHidden, 1> group_norm_silu(
   return out;
 }
 
+// Windows per pass of run_batch: 64 columns keep a pass's activations (128 × 64 floats each) in
+// L1/L2 while the weights stream through once.
+constexpr int kBatchChunk = 64;
+using HiddenBatch = Eigen::Matrix<float, Diffusion::kHidden, Eigen::Dynamic, Eigen::ColMajor,
+                                  Diffusion::kHidden, kBatchChunk>;
+using PoseBatch =
+    Eigen::Matrix<float, kPoseSize, Eigen::Dynamic, Eigen::ColMajor, kPoseSize, kBatchChunk>;
+
+// group_norm_silu() on every column of a batch: each group's 8 contiguous channels as one
+// fixed-size array (one AVX register), then one vectorised SiLU over the whole batch.
+void group_norm_silu_batch(const HiddenBatch& h, const VectorParam<Diffusion::kHidden>& gamma,
+                           const VectorParam<Diffusion::kHidden>& beta, HiddenBatch& out) {
+  constexpr int kPerGroup = Diffusion::kHidden / Diffusion::kGroups;
+  using Group = Eigen::Array<float, kPerGroup, 1>;
+  const float* g = gamma.storage().data();
+  const float* b = beta.storage().data();
+  out.resize(Diffusion::kHidden, h.cols());
+  for (Eigen::Index j = 0; j < h.cols(); ++j) {
+    for (int first = 0; first < Diffusion::kHidden; first += kPerGroup) {
+      const Eigen::Map<const Group> x(h.col(j).data() + first);
+      const Group centred = x - x.sum() / kPerGroup;
+      const float inv = 1.0f / std::sqrt(centred.square().sum() / kPerGroup + 1e-5f);
+      Eigen::Map<Group>(out.col(j).data() + first) =
+          centred * inv * Eigen::Map<const Group>(g + first) + Eigen::Map<const Group>(b + first);
+    }
+  }
+  silu_inplace(out);
+}
+
 }  // namespace
 
 bool UgnetDiffusion::recognises(const SafetensorsFile& file) {
@@ -157,6 +188,68 @@ PoseVector UgnetDiffusion::run(UgnetWindow window, std::span<const float> noise,
   PoseVector out;
   Eigen::Map<Pose>(out.data()) = x;
   return out;
+}
+
+void UgnetDiffusion::run_batch(std::span<const float> windows, std::span<const float> noise,
+                               std::span<float> out) const {
+  using Hidden = HiddenBatch;
+  using Poses = PoseBatch;
+  using Pose = Eigen::Matrix<float, kPoseSize, 1>;
+  const std::size_t count = out.size() / kPoseSize;
+  const bool has_noise = !noise.empty();
+  for (std::size_t first = 0; first < count; first += kBatchChunk) {
+    const auto n = static_cast<Eigen::Index>(std::min<std::size_t>(kBatchChunk, count - first));
+    // noise row `row` (0: the initial sample) of window `j` of this chunk
+    const auto draws_of = [&](Eigen::Index j, int row) {
+      return Eigen::Map<const Pose>(noise.data() + (first + j) * kDiffusionNoiseSize +
+                                    static_cast<std::size_t>(row) * kPoseSize);
+    };
+    Eigen::Matrix<float, kConditionSize, Eigen::Dynamic> c(kConditionSize, n);
+    for (Eigen::Index j = 0; j < n; ++j) {
+      c.col(j) = condition_vector(
+          UgnetWindow(windows.subspan((first + j) * kUgnetWindowSize, kUgnetWindowSize)));
+    }
+    const Hidden fin_c = fin.w_condition.view() * c;
+    // On the heap: ten of these (320 KB) would crowd a thread's stack.
+    std::array<Eigen::Matrix<float, kHidden, Eigen::Dynamic>, kBlocks> block_c;
+    for (int k = 0; k < kBlocks; ++k) {
+      block_c[k] = blocks[k].w_condition.view() * c;
+    }
+    const Poses fco_c = fco.w_condition.view() * c;
+
+    Poses x = Poses::Zero(kPoseSize, n);
+    if (has_noise) {
+      for (Eigen::Index j = 0; j < n; ++j) {
+        x.col(j) = draws_of(j, 0);
+      }
+    }
+    Hidden h(kHidden, n), g(kHidden, n);
+    Poses x0(kPoseSize, n);
+    for (int i = 0; i < kSteps; ++i) {
+      const int t = kSteps - 1 - i;
+      h = fin_c;
+      h.colwise() += fin.time_and_bias.view().row(t).transpose();
+      h.noalias() += fin.w_noisy.view() * x;
+      for (int k = 0; k < kBlocks; ++k) {
+        group_norm_silu_batch(h, norm_weight[k], norm_bias[k], g);
+        h = block_c[k];
+        h.colwise() += blocks[k].time_and_bias.view().row(t).transpose();
+        h.noalias() += blocks[k].w_hidden.view() * g;
+        h.noalias() += blocks[k].w_noisy.view() * x;
+      }
+      x0 = fco_c;
+      x0.colwise() += fco.time_and_bias.view().row(t).transpose();
+      x0.noalias() += fco.w_hidden.view() * h;
+      x0.noalias() += fco.w_noisy.view() * x;
+      x = x0;
+      if (t > 0 && has_noise) {
+        for (Eigen::Index j = 0; j < n; ++j) {
+          x.col(j) += sigma.view()(t) * draws_of(j, i + 1);
+        }
+      }
+    }
+    Eigen::Map<Poses>(out.data() + first * kPoseSize, kPoseSize, n) = x;
+  }
 }
 
 }  // namespace deixis::nn

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "gesture/parity.h"
 #include "test_support.h"
@@ -83,6 +84,45 @@ TEST(Blend, WeightOneCopiesTheUserWeightZeroScalesThePrediction) {
                   .isApprox(get_vec3(predicted, ee::kHandPosition) / 1.25f, 1e-6f));
   EXPECT_TRUE(get_vec3(generated, ee::kHeadPosition)
                   .isApprox(get_vec3(predicted, ee::kHeadPosition), 1e-6f));
+}
+
+// begin_step() + UGNet + end_step() is step(): two loops over the same 60 random frames, one
+// stepping whole, one in halves (the way deixis eval batches its chains), stay bit-identical.
+TEST(TranslationLoop, BeginAndEndStepMakeAWholeStep) {
+  const fs::path w = testing::reference_dir() / "weights/right";
+  const nn::Mpnet mpnet = nn::Mpnet::load(w / "MPNet(MoE)(AC)80.safetensors");
+  const nn::Ugnet ugnet = nn::Ugnet::load(w / "UGNet(Diffusion)(AC)120.safetensors");
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+  std::normal_distribution<float> draw(0.0f, 1.0f);
+  const auto random_frame = [&] {
+    TranslationInput f;
+    std::ranges::generate(f.user_features, [&] { return value(rng); });
+    std::ranges::generate(f.user_x, [&] { return value(rng); });
+    std::ranges::generate(f.avatar_target, [&] { return value(rng); });
+    return f;
+  };
+  std::vector<float> noise(nn::kDiffusionNoiseSize);
+  const TranslationInput first = random_frame();
+  TranslationLoop whole(mpnet, ugnet, 1.1f), halves(mpnet, ugnet, 1.1f);
+  whole.reset(first, first.user_x);
+  halves.reset(first, first.user_x);
+  for (int k = 0; k < 60; ++k) {
+    const TranslationInput frame = random_frame();
+    std::ranges::generate(noise, [&] { return draw(rng); });
+    const TranslationStep a = whole.step(frame, noise);
+    TranslationStep b = halves.begin_step(frame);
+    const nn::PoseVector prediction = ugnet.run(halves.ugnet_window(), noise);
+    EXPECT_NE(b.prediction, prediction) << "begin_step() must leave the prediction to end_step()";
+    halves.end_step(prediction, b);
+    ASSERT_EQ(a.avatar_x, b.avatar_x) << "frame " << k;
+    ASSERT_EQ(a.progression, b.progression) << "frame " << k;
+    ASSERT_EQ(a.prediction, b.prediction) << "frame " << k;
+    ASSERT_EQ(a.head_weight, b.head_weight) << "frame " << k;
+    ASSERT_EQ(a.hand_weight, b.hand_weight) << "frame " << k;
+    ASSERT_TRUE(std::ranges::equal(whole.ugnet_window(), halves.ugnet_window())) << "frame " << k;
+    ASSERT_EQ(whole.prediction(), halves.prediction()) << "frame " << k;
+  }
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <random>
+#include <stdexcept>
 
 #include "gesture/error.h"
 #include "gesture/io/safetensors.h"
@@ -152,6 +154,58 @@ TEST(NetworkLoading, RecognisesEveryArchitecture) {
             nn::UgnetArchitecture::kTransformer);
   EXPECT_EQ(nn::Ugnet::load(w / "UGNet(Diffusion)(AC)120.safetensors").architecture(),
             nn::UgnetArchitecture::kDiffusion);
+}
+
+// Ugnet::run_batch is run() on each window: the diffusion variant's batched products over 70
+// windows (a chunk of 64 and a partial one), each with its own draws, and the others' loop.
+TEST(UgnetBatch, EqualsRunOnEachWindow) {
+  constexpr std::size_t kCount = 70;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+  std::normal_distribution<float> draw(0.0f, 1.0f);
+  std::vector<float> windows(kCount * nn::kUgnetWindowSize),
+      noise(kCount * nn::kDiffusionNoiseSize);
+  std::ranges::generate(windows, [&] { return value(rng); });
+  std::ranges::generate(noise, [&] { return draw(rng); });
+  const fs::path w = testing::reference_dir() / "weights/right";
+  for (const char* name : {"UGNet(MoE)(AC)120", "UGNet(MLP)(AC)120", "UGNet(Transformer)(AC)120",
+                           "UGNet(Diffusion)(AC)120"}) {
+    const nn::Ugnet ugnet = nn::Ugnet::load(w / (std::string(name) + ".safetensors"));
+    for (const bool with_noise : {true, false}) {
+      std::vector<float> out(kCount * nn::kPoseSize, std::nanf(""));
+      ugnet.run_batch(windows,
+                      with_noise ? std::span<const float>(noise) : std::span<const float>{}, out);
+      float worst = 0.0f;
+      for (std::size_t i = 0; i < kCount; ++i) {
+        const nn::PoseVector one =
+            ugnet.run(nn::UgnetWindow(std::span<const float>(windows).subspan(
+                          i * nn::kUgnetWindowSize, nn::kUgnetWindowSize)),
+                      with_noise ? std::span<const float>(noise).subspan(
+                                       i * nn::kDiffusionNoiseSize, nn::kDiffusionNoiseSize)
+                                 : std::span<const float>{});
+        for (int k = 0; k < nn::kPoseSize; ++k) {
+          const float batched = out[i * nn::kPoseSize + k];
+          worst = std::isfinite(batched) ? std::max(worst, std::abs(batched - one[k])) : INFINITY;
+        }
+      }
+      std::printf("[ measured ] %s run_batch vs run (%s draws): max |error| %.2g\n", name,
+                  with_noise ? "with" : "without", static_cast<double>(worst));
+      EXPECT_LT(worst, 1e-5f) << name;
+    }
+  }
+}
+
+TEST(UgnetBatch, SizesThatDoNotFitTogetherAreRefused) {
+  const nn::Ugnet ugnet = nn::Ugnet::load(testing::reference_dir() /
+                                          "weights/left/UGNet(Diffusion)(AC)120.safetensors");
+  std::vector<float> windows(2 * nn::kUgnetWindowSize), noise(nn::kDiffusionNoiseSize);
+  std::vector<float> out(2 * nn::kPoseSize), odd(2 * nn::kPoseSize + 1);
+  EXPECT_THROW(ugnet.run_batch(windows, noise, out), std::invalid_argument);  // draws for one
+  EXPECT_THROW(ugnet.run_batch(windows, {}, odd), std::invalid_argument);     // not whole poses
+  EXPECT_THROW(
+      ugnet.run_batch(std::span<const float>(windows).first(nn::kUgnetWindowSize), {}, out),
+      std::invalid_argument);  // one window for two poses
+  EXPECT_NO_THROW(ugnet.run_batch(windows, {}, out));
 }
 
 TEST(NetworkLoading, AMissingTensorIsNamed) {
