@@ -66,22 +66,29 @@ void load_conditioned(
   }
 }
 
-// GroupNorm(16 groups, 128 channels, eps 1e-5, per-channel affine) on one sample, then SiLU.
+// GroupNorm(16 groups, 128 channels, eps 1e-5, per-channel affine) of one sample's channels
+// `in` into `out`, each group's 8 contiguous channels as one fixed-size array (one AVX register).
+void group_norm(const float* in, const VectorParam<Diffusion::kHidden>& gamma,
+                const VectorParam<Diffusion::kHidden>& beta, float* out) {
+  constexpr int kPerGroup = Diffusion::kHidden / Diffusion::kGroups;
+  using Group = Eigen::Array<float, kPerGroup, 1>;
+  const float* g = gamma.storage().data();
+  const float* b = beta.storage().data();
+  for (int first = 0; first < Diffusion::kHidden; first += kPerGroup) {
+    const Eigen::Map<const Group> x(in + first);
+    const Group centred = x - x.sum() / kPerGroup;
+    const float inv = 1.0f / std::sqrt(centred.square().sum() / kPerGroup + 1e-5f);
+    Eigen::Map<Group>(out + first) =
+        centred * inv * Eigen::Map<const Group>(g + first) + Eigen::Map<const Group>(b + first);
+  }
+}
+
+// GroupNorm, then SiLU, on one sample.
 Eigen::Matrix<float, Diffusion::kHidden, 1> group_norm_silu(
     const Eigen::Matrix<float, Diffusion::kHidden, 1>& h,
     const VectorParam<Diffusion::kHidden>& gamma, const VectorParam<Diffusion::kHidden>& beta) {
-  constexpr int kPerGroup = Diffusion::kHidden / Diffusion::kGroups;
   Eigen::Matrix<float, Diffusion::kHidden, 1> out;
-  for (int g = 0; g < Diffusion::kGroups; ++g) {
-    const auto group = h.segment<kPerGroup>(g * kPerGroup);
-    const float mean = group.mean();
-    const float variance = (group.array() - mean).square().mean();
-    const float inv = 1.0f / std::sqrt(variance + 1e-5f);
-    out.segment<kPerGroup>(g * kPerGroup) =
-        ((group.array() - mean) * inv * gamma.view().segment<kPerGroup>(g * kPerGroup).array() +
-         beta.view().segment<kPerGroup>(g * kPerGroup).array())
-            .matrix();
-  }
+  group_norm(h.data(), gamma, beta, out.data());
   silu_inplace(out);
   return out;
 }
@@ -94,23 +101,12 @@ using HiddenBatch = Eigen::Matrix<float, Diffusion::kHidden, Eigen::Dynamic, Eig
 using PoseBatch =
     Eigen::Matrix<float, kPoseSize, Eigen::Dynamic, Eigen::ColMajor, kPoseSize, kBatchChunk>;
 
-// group_norm_silu() on every column of a batch: each group's 8 contiguous channels as one
-// fixed-size array (one AVX register), then one vectorised SiLU over the whole batch.
+// group_norm_silu() on every column of a batch, with one vectorised SiLU over the whole batch.
 void group_norm_silu_batch(const HiddenBatch& h, const VectorParam<Diffusion::kHidden>& gamma,
                            const VectorParam<Diffusion::kHidden>& beta, HiddenBatch& out) {
-  constexpr int kPerGroup = Diffusion::kHidden / Diffusion::kGroups;
-  using Group = Eigen::Array<float, kPerGroup, 1>;
-  const float* g = gamma.storage().data();
-  const float* b = beta.storage().data();
   out.resize(Diffusion::kHidden, h.cols());
   for (Eigen::Index j = 0; j < h.cols(); ++j) {
-    for (int first = 0; first < Diffusion::kHidden; first += kPerGroup) {
-      const Eigen::Map<const Group> x(h.col(j).data() + first);
-      const Group centred = x - x.sum() / kPerGroup;
-      const float inv = 1.0f / std::sqrt(centred.square().sum() / kPerGroup + 1e-5f);
-      Eigen::Map<Group>(out.col(j).data() + first) =
-          centred * inv * Eigen::Map<const Group>(g + first) + Eigen::Map<const Group>(b + first);
-    }
+    group_norm(h.col(j).data(), gamma, beta, out.col(j).data());
   }
   silu_inplace(out);
 }
