@@ -435,10 +435,31 @@ void evaluate_subjects(const EvalOptions& options, const std::vector<TestSet>& s
   }
 }
 
+// Mean time of one call in microseconds. The network is loaded before (Networks loads on first
+// use, and a file's reading must not count as inference); a few calls warm caches first, then
+// calls run in rounds of 100 until 0.1 s has passed, so a 2-µs MLP is timed over thousands.
+template <typename Call>
+double mean_call_us(Call&& call, double& checksum) {
+  constexpr int kWarmUp = 10;
+  constexpr int kRound = 100;
+  constexpr double kMinSeconds = 0.1;
+  for (int i = 0; i < kWarmUp; ++i) {
+    checksum += call();
+  }
+  int calls = 0;
+  const Clock::time_point start = Clock::now();
+  do {
+    for (int i = 0; i < kRound; ++i) {
+      checksum += call();
+    }
+    calls += kRound;
+  } while (seconds_since(start) < kMinSeconds);
+  return seconds_since(start) * 1e6 / calls;
+}
+
 // Table II: parameters, float32 size and the mean time per call on this machine.
 void measure_networks(Tables& t, const EvalOptions& o, std::vector<Networks>& networks,
                       const TestSet* sample) {
-  constexpr int kCalls = 100;
   std::array<float, nn::kMpnetWindowSize> mw{};
   std::array<float, nn::kUgnetWindowSize> uw{};
   if (sample) {
@@ -451,30 +472,24 @@ void measure_networks(Tables& t, const EvalOptions& o, std::vector<Networks>& ne
   }
   for (std::size_t w = 0; w < networks.size(); ++w) {
     for (const char* stem : kAllNetworks) {
-      const bool is_mpnet = std::string(stem).starts_with("MPNet");
       std::size_t parameters = 0;
       double checksum = 0.0;  // keeps the calls observable
-      const Clock::time_point start = Clock::now();
-      if (is_mpnet) {
+      double us = 0.0;
+      if (std::string(stem).starts_with("MPNet")) {
         const nn::Mpnet* n = networks[w].mpnet(Hand::kRight, stem);
         if (!n) {
           continue;
         }
         parameters = n->parameter_count();
-        for (int i = 0; i < kCalls; ++i) {
-          checksum += static_cast<double>(n->run(mw).progression[0]);
-        }
+        us = mean_call_us([&] { return static_cast<double>(n->run(mw).progression[0]); }, checksum);
       } else {
         const nn::Ugnet* n = networks[w].ugnet(Hand::kRight, stem);
         if (!n) {
           continue;
         }
         parameters = n->parameter_count();
-        for (int i = 0; i < kCalls; ++i) {
-          checksum += static_cast<double>(n->run(uw)[0]);
-        }
+        us = mean_call_us([&] { return static_cast<double>(n->run(uw)[0]); }, checksum);
       }
-      const double us = seconds_since(start) * 1e6 / kCalls;
       // The row names the file measured, whose epochs say if its schedule was compressed.
       const std::string file = networks[w].resolve(Hand::kRight, stem);
       if (!std::isfinite(checksum)) {

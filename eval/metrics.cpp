@@ -133,7 +133,12 @@ double frechet_distance(std::span<const std::vector<double>> real,
   const MatrixXd inner = root_r * sigma_g * root_r;
   const Eigen::SelfAdjointEigenSolver<MatrixXd> solver((inner + inner.transpose()) / 2.0);
   const double trace_sqrt = solver.eigenvalues().cwiseMax(0.0).cwiseSqrt().sum();
-  return (mu_r - mu_g).squaredNorm() + sigma_r.trace() + sigma_g.trace() - 2.0 * trace_sqrt;
+  // A squared distance: with singular covariances (fewer segments than embedding dimensions)
+  // the square-root term rounds a little above the traces, and identical sets would come out
+  // as -1e-13 rather than 0.
+  const double d =
+      (mu_r - mu_g).squaredNorm() + sigma_r.trace() + sigma_g.trace() - 2.0 * trace_sqrt;
+  return std::max(d, 0.0);
 }
 
 Vec3 axis_angle(const Mat3& R) {

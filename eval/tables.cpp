@@ -57,22 +57,27 @@ void table_markdown(const Table& t, const std::vector<std::string>& subjects,
   for (const std::string& n : t.notes) {
     out << "- " << n << "\n";
   }
-  out << "\n<details><summary>Table " << t.id << " per subject</summary>\n\n"
-      << header(t, "row, subject");
+  std::ostringstream rows;
   for (const TableRow& r : t.rows) {
     for (const std::string& s : subjects) {
       const auto it = r.per_subject.find(s);
       if (it == r.per_subject.end()) {
         continue;
       }
-      out << "| " << r.label << ", " << s << " | " << (r.weights.empty() ? "—" : r.weights) << " |";
+      rows << "| " << r.label << ", " << s << " | " << (r.weights.empty() ? "—" : r.weights)
+           << " |";
       for (std::size_t c = 0; c < t.columns.size(); ++c) {
-        out << " " << cell(it->second[c], std::nullopt, t.columns[c].decimals) << " |";
+        rows << " " << cell(it->second[c], std::nullopt, t.columns[c].decimals) << " |";
       }
-      out << "\n";
+      rows << "\n";
     }
   }
-  out << "\n</details>\n\n";
+  // Table II is measured once per machine, not per subject: no empty breakdown for it.
+  if (!rows.view().empty()) {
+    out << "\n<details><summary>Table " << t.id << " per subject</summary>\n\n"
+        << header(t, "row, subject") << rows.view() << "\n</details>\n";
+  }
+  out << "\n";
 }
 
 nlohmann::json optional_json(const std::optional<double>& v) {

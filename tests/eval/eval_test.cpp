@@ -327,7 +327,17 @@ TEST_F(EvalRun, QuickRunWritesWellFormedTables) {
   EXPECT_TRUE(row("V", "MoE (AC), missed 1.0 s", "authors")["mean"][0].is_number());
   ASSERT_EQ(j["figure5"].size(), 1u);
   EXPECT_EQ(j["figure5"][0]["seconds"].size(), 5u);
-  EXPECT_NE(markdown(report).find("## Table IV."), std::string::npos);
+  const std::string md = markdown(report);
+  EXPECT_NE(md.find("## Table IV."), std::string::npos);
+  // Every per-subject breakdown has rows below its header (Table II, measured once per
+  // machine, has none and so no breakdown).
+  for (const char* id : {"I", "III", "IV", "V"}) {
+    const std::size_t open = md.find(std::string("Table ") + id + " per subject</summary>");
+    ASSERT_NE(open, std::string::npos) << "Table " << id;
+    const std::string block = md.substr(open, md.find("</details>", open) - open);
+    EXPECT_NE(block.find(", 161 |"), std::string::npos) << block;
+  }
+  EXPECT_EQ(md.find("Table II per subject"), std::string::npos);
   // The wall time says which machine spent it.
   EXPECT_EQ(j["machine"], deixis::machine_description());
   EXPECT_NE(markdown(report).find(" s on " + deixis::machine_description() + "."),

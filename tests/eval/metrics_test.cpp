@@ -96,6 +96,28 @@ TEST(FrechetDistance, IdenticalSetsGiveZero) {
   EXPECT_NEAR(frechet_distance(set, set), 0.0, 1e-9);
 }
 
+// The motion encoder's 128-dimensional embeddings of a short sequence are fewer than their
+// dimensions, so the covariances are singular; the trace of the square-root term then rounds a
+// little above the traces and an identical pair came out as -1e-13 ("-0.00" in the tables,
+// copy-paste's FMD). The distance is a squared distance: never below zero.
+TEST(FrechetDistance, IdenticalSingularSetsGiveZeroNotBelow) {
+  std::normal_distribution<double> n(0.0, 3.0);
+  int below = 0;
+  for (unsigned seed = 1; seed <= 20; ++seed) {
+    std::mt19937 rng(seed);
+    std::vector<std::vector<double>> set(40, std::vector<double>(128));
+    for (auto& row : set) {
+      for (double& v : row) {
+        v = n(rng);
+      }
+    }
+    const double d = frechet_distance(set, set);
+    EXPECT_NEAR(d, 0.0, 1e-9) << "seed " << seed;
+    below += d < 0.0 ? 1 : 0;
+  }
+  EXPECT_EQ(below, 0);
+}
+
 TEST(FrechetDistance, HandComputedOneDimensionalCases) {
   // real: mean 1, variance 2; generated: mean 2, variance 2 → 1 + 2 + 2 − 2·√4 = 1.
   const std::vector<std::vector<double>> real = {{0.0}, {2.0}};
