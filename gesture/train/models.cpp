@@ -200,7 +200,7 @@ class UgnetTransformer : public TrainableNetwork {
     const torch::Tensor features = feature_(window.slice(2, kPose, kPose + kCondition));
     const torch::Tensor pose = pose_(window.select(1, -1).slice(1, 0, kPose)).unsqueeze(1);
     const torch::Tensor tokens = torch::cat({features, pose}, 1).transpose(0, 1);
-    return out_(encoder_->forward(tokens).select(0, -1));
+    return out_(encoder_last_token(encoder_, tokens, at::detail::getDefaultCPUGenerator()));
   }
 
  private:

@@ -115,6 +115,12 @@ TEST(FusedTransformer, MpnetEncoderMatchesLibtorchWithoutDropout) {
   expect_encoder_matches({30, 16, 16, 4, 16, 4}, 0.0, true);
 }
 
+// The UGNet Transformer's encoder (30 condition tokens and the pose token, d 160, 4 heads,
+// feed-forward 160, 4 layers), which trains through the fused layers too; a small batch.
+TEST(FusedTransformer, UgnetEncoderMatchesLibtorchWithoutDropout) {
+  expect_encoder_matches({31, 3, 160, 4, 160, 4}, 0.0, true);
+}
+
 TEST(FusedTransformer, OtherSizesMatchLibtorchWithoutDropout) {
   expect_encoder_matches({7, 3, 12, 3, 20, 2}, 0.0, true);
   expect_encoder_matches({5, 2, 8, 1, 6, 1}, 0.0, true);

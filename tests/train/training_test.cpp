@@ -80,6 +80,23 @@ TEST(Training, TinyUgnetLowersItsLossWithScheduledSampling) {
   EXPECT_EQ(runtime.architecture(), nn::UgnetArchitecture::kMoe);
 }
 
+// The UGNet Transformer trains through the fused encoder layers (fused_transformer.h), dropout
+// included; a few steps must lower its loss and export what the runtime loads.
+TEST(Training, TinyUgnetTransformerLowersItsLoss) {
+  deixis::testing::ScratchDir dir;
+  const std::vector<Sequence> train = test_data::synthetic_sequences(12, 60, 3);
+  const TrainingData data{ugnet_clips(train), {}};
+  TrainOptions o = tiny_options(Network::kUgnetTransformer, dir.path());
+  o.schedule.teacher_forcing_epochs = 3;  // teacher forcing only: the loss of the network alone
+  o.schedule.autoregressive_from_epoch = 4;
+  std::ostringstream log;
+  const TrainOutcome out = train::train(o, data, log);
+  ASSERT_EQ(out.history.size(), 3u);
+  EXPECT_LT(out.history.back().train_loss, 0.8 * out.history.front().train_loss) << log.str();
+  const nn::Ugnet runtime = nn::Ugnet::load(out.weights);
+  EXPECT_EQ(runtime.architecture(), nn::UgnetArchitecture::kTransformer);
+}
+
 // The MoE networks and the autoencoder train through direct steps (moe_step.h,
 // autoencoder_step.h); --autograd runs the same schedule through libtorch's autograd. Both must
 // follow the same trajectory and export the same weights, with UGNet's scheduled sampling feeding
