@@ -45,7 +45,10 @@ std::string describe_encoder(const fs::path& encoder_weights, const std::string&
     if (!found->at("validation").is_null()) {
       line += ", " + errors_of(found->at("validation")) + " on the validation subjects";
     }
-    line += " (paper, right hand: 0.38 cm, 0.97° and 1.29 cm, 3.90°)";
+    // The paper (§V) reports each hand's encoder: the left one is trained on mirrored motion
+    // and validated on the left-handed subjects.
+    line += hand == "left" ? " (paper, left hand: 0.38 cm, 0.95° and 1.57 cm, 3.96°)"
+                           : " (paper, right hand: 0.38 cm, 0.97° and 1.29 cm, 3.90°)";
     const int epochs = manifest.value("schedule", nlohmann::json::object()).value("epochs", 0);
     if (epochs > 0) {
       line += "; " + std::to_string(epochs) + " epochs";

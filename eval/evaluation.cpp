@@ -14,6 +14,7 @@
 #include <thread>
 #include <utility>
 
+#include "eval/call_timing.h"
 #include "eval/encoder_report.h"
 #include "eval/parallel.h"
 #include "gesture/error.h"
@@ -433,28 +434,6 @@ void evaluate_subjects(const EvalOptions& options, const std::vector<TestSet>& s
   for (const Tables& part : parts) {
     merge_into(tables, part);
   }
-}
-
-// Mean time of one call in microseconds. The network is loaded before (Networks loads on first
-// use, and a file's reading must not count as inference); a few calls warm caches first, then
-// calls run in rounds of 100 until 0.1 s has passed, so a 2-µs MLP is timed over thousands.
-template <typename Call>
-double mean_call_us(Call&& call, double& checksum) {
-  constexpr int kWarmUp = 10;
-  constexpr int kRound = 100;
-  constexpr double kMinSeconds = 0.1;
-  for (int i = 0; i < kWarmUp; ++i) {
-    checksum += call();
-  }
-  int calls = 0;
-  const Clock::time_point start = Clock::now();
-  do {
-    for (int i = 0; i < kRound; ++i) {
-      checksum += call();
-    }
-    calls += kRound;
-  } while (seconds_since(start) < kMinSeconds);
-  return seconds_since(start) * 1e6 / calls;
 }
 
 // Table II: parameters, float32 size and the mean time per call on this machine.

@@ -484,7 +484,10 @@ void Run::report_reconstruction(Manifest& m) {
                   m.validation_reconstruction->rotation_deg);
     log_ << line;
   }
-  log_ << " (paper, right hand: 0.38 cm, 0.97 deg; 1.29 cm, 3.90 deg)" << std::endl;
+  log_ << (options_.hand == Hand::kLeft
+               ? " (paper, left hand: 0.38 cm, 0.95 deg; 1.57 cm, 3.96 deg)"
+               : " (paper, right hand: 0.38 cm, 0.97 deg; 1.29 cm, 3.90 deg)")
+       << std::endl;
 }
 
 // Writes the current weights and their manifest into `dir`: the run's own directory when the

@@ -36,6 +36,12 @@ TEST(EncoderReport, TheManifestsReconstructionErrorsAreQuoted) {
   EXPECT_NE(line.find("0.41 cm, 1.06° on the training subject"), std::string::npos) << line;
   EXPECT_NE(line.find("1.33 cm, 3.99° on the validation subjects"), std::string::npos) << line;
   EXPECT_NE(line.find("600 epochs"), std::string::npos) << line;
+  // Each hand's encoder is set beside the paper's figures for that hand (§V).
+  EXPECT_NE(line.find("paper, right hand: 0.38 cm, 0.97° and 1.29 cm, 3.90°"), std::string::npos)
+      << line;
+  const std::string left = describe_encoder(weights, "left");
+  EXPECT_NE(left.find("paper, left hand: 0.38 cm, 0.95° and 1.57 cm, 3.96°"), std::string::npos)
+      << left;
 }
 
 TEST(EncoderReport, AFigureTheTrainerCouldNotMeasureIsSaidSo) {

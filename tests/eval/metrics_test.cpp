@@ -98,8 +98,9 @@ TEST(FrechetDistance, IdenticalSetsGiveZero) {
 
 // The motion encoder's 128-dimensional embeddings of a short sequence are fewer than their
 // dimensions, so the covariances are singular; the trace of the square-root term then rounds a
-// little above the traces and an identical pair came out as -1e-13 ("-0.00" in the tables,
-// copy-paste's FMD). The distance is a squared distance: never below zero.
+// little above the traces, and before the floor every one of these 20 identical pairs came out
+// below zero ("-0.00" in the tables, copy-paste's FMD). The distance is a squared distance:
+// never below zero, and two different singular sets still a positive distance.
 TEST(FrechetDistance, IdenticalSingularSetsGiveZeroNotBelow) {
   std::normal_distribution<double> n(0.0, 3.0);
   int below = 0;
@@ -114,6 +115,11 @@ TEST(FrechetDistance, IdenticalSingularSetsGiveZeroNotBelow) {
     const double d = frechet_distance(set, set);
     EXPECT_NEAR(d, 0.0, 1e-9) << "seed " << seed;
     below += d < 0.0 ? 1 : 0;
+    std::vector<std::vector<double>> shifted = set;
+    for (auto& row : shifted) {
+      row[seed % 128] += 0.5;  // the means differ by 0.5 in one dimension: FMD ≈ 0.25
+    }
+    EXPECT_NEAR(frechet_distance(set, shifted), 0.25, 1e-4) << "seed " << seed;
   }
   EXPECT_EQ(below, 0);
 }
