@@ -14,6 +14,9 @@
 #include <cmath>
 #include <map>
 
+#include "gesture/nn/shapes.h"
+#include "gesture/train/models.h"
+
 namespace deixis::train {
 namespace {
 
@@ -119,6 +122,28 @@ TEST(FusedTransformer, MpnetEncoderMatchesLibtorchWithoutDropout) {
 // feed-forward 160, 4 layers), which trains through the fused layers too; a small batch.
 TEST(FusedTransformer, UgnetEncoderMatchesLibtorchWithoutDropout) {
   expect_encoder_matches({31, 3, 160, 4, 160, 4}, 0.0, true);
+}
+
+// deixis-train's UGNet Transformer (now through the fused layers) drops out in training only: its
+// masks come from the default generator (the trainer seeds it per batch), so one seed gives one
+// output and another seed another; in eval mode there is no dropout and the seed is irrelevant.
+TEST(FusedTransformer, UgnetTransformerDropsOutInTrainingOnly) {
+  torch::manual_seed(5);
+  const std::shared_ptr<TrainableNetwork> net = make_network(Network::kUgnetTransformer);
+  const torch::Tensor window = torch::randn({4, nn::kWindowRows, nn::kUgnetColumns});
+  const auto forward_with_seed = [&](std::uint64_t seed) {
+    torch::manual_seed(seed);
+    return net->forward(window).detach();
+  };
+  net->train();
+  const torch::Tensor a = forward_with_seed(1);
+  EXPECT_TRUE(torch::equal(a, forward_with_seed(1)));
+  EXPECT_GT((a - forward_with_seed(2)).abs().max().item<double>(), 1e-3);
+  net->eval();
+  torch::NoGradGuard no_grad;
+  const torch::Tensor e = forward_with_seed(1);
+  EXPECT_TRUE(torch::equal(e, forward_with_seed(2)));
+  EXPECT_GT((a - e).abs().max().item<double>(), 1e-3);
 }
 
 TEST(FusedTransformer, OtherSizesMatchLibtorchWithoutDropout) {
