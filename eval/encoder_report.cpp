@@ -4,6 +4,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "gesture/nn/motion_encoder.h"
+
 namespace deixis::eval {
 namespace {
 
@@ -45,10 +47,13 @@ std::string describe_encoder(const fs::path& encoder_weights, const std::string&
     if (!found->at("validation").is_null()) {
       line += ", " + errors_of(found->at("validation")) + " on the validation subjects";
     }
-    // The paper (§V) reports each hand's encoder: the left one is trained on mirrored motion
-    // and validated on the left-handed subjects.
-    line += hand == "left" ? " (paper, left hand: 0.38 cm, 0.95° and 1.57 cm, 3.96°)"
-                           : " (paper, right hand: 0.38 cm, 0.97° and 1.29 cm, 3.90°)";
+    const nn::PaperReconstruction& paper =
+        hand == "left" ? nn::kPaperReconstructionLeft : nn::kPaperReconstructionRight;
+    char text[120];
+    std::snprintf(text, sizeof text, " (paper, %s hand: %.2f cm, %.2f° and %.2f cm, %.2f°)",
+                  hand == "left" ? "left" : "right", paper.training_cm, paper.training_deg,
+                  paper.validation_cm, paper.validation_deg);
+    line += text;
     const int epochs = manifest.value("schedule", nlohmann::json::object()).value("epochs", 0);
     if (epochs > 0) {
       line += "; " + std::to_string(epochs) + " epochs";

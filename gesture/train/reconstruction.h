@@ -1,8 +1,8 @@
 #pragma once
 // How well the FMD autoencoder reconstructs motion, in the paper's terms (§V, "FMD"): the average
 // per-frame position error (cm) and rotation error (degrees) of head and hand over 30-frame
-// segments, on the training subject and on the validation subjects (paper: 0.38 cm and 0.97° in
-// training, 1.29 cm and 3.90° in validation, right hand).
+// segments, on the training subject and on the validation subjects (the paper's own figures:
+// nn::kPaperReconstructionRight and Left, gesture/nn/motion_encoder.h).
 
 #include <torch/torch.h>
 

@@ -24,6 +24,7 @@
 
 #include "gesture/error.h"
 #include "gesture/io/machine.h"
+#include "gesture/nn/motion_encoder.h"
 #include "gesture/train/adamw.h"
 #include "gesture/train/manifest.h"
 #include "gesture/train/models.h"
@@ -484,10 +485,13 @@ void Run::report_reconstruction(Manifest& m) {
                   m.validation_reconstruction->rotation_deg);
     log_ << line;
   }
-  log_ << (options_.hand == Hand::kLeft
-               ? " (paper, left hand: 0.38 cm, 0.95 deg; 1.57 cm, 3.96 deg)"
-               : " (paper, right hand: 0.38 cm, 0.97 deg; 1.29 cm, 3.90 deg)")
-       << std::endl;
+  const bool left = options_.hand == Hand::kLeft;
+  const nn::PaperReconstruction& paper =
+      left ? nn::kPaperReconstructionLeft : nn::kPaperReconstructionRight;
+  std::snprintf(line, sizeof line, " (paper, %s hand: %.2f cm, %.2f deg; %.2f cm, %.2f deg)",
+                left ? "left" : "right", paper.training_cm, paper.training_deg, paper.validation_cm,
+                paper.validation_deg);
+  log_ << line << std::endl;
 }
 
 // Writes the current weights and their manifest into `dir`: the run's own directory when the
