@@ -1,5 +1,7 @@
 #include "gesture/train/fused_experts.h"
 
+#include "gesture/train/tensor_maps.h"
+
 #include <torch/autograd.h>
 
 #include <Eigen/Core>
@@ -8,19 +10,7 @@ namespace deixis::train {
 
 namespace {
 
-using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-using MatrixMap = Eigen::Map<RowMatrix>;
-using ConstMatrixMap = Eigen::Map<const RowMatrix>;
-
 constexpr int kLayers = 3;
-
-ConstMatrixMap map(const torch::Tensor& t, Eigen::Index rows, Eigen::Index cols,
-                   Eigen::Index offset = 0) {
-  return ConstMatrixMap(t.data_ptr<float>() + offset, rows, cols);
-}
-MatrixMap map_mut(torch::Tensor& t, Eigen::Index rows, Eigen::Index cols, Eigen::Index offset = 0) {
-  return MatrixMap(t.data_ptr<float>() + offset, rows, cols);
-}
 
 // One layer's shapes.
 struct Shape {

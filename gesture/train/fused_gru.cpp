@@ -1,5 +1,7 @@
 #include "gesture/train/fused_gru.h"
 
+#include "gesture/train/tensor_maps.h"
+
 #include <torch/autograd.h>
 #include <torch/nn/init.h>
 
@@ -11,18 +13,8 @@ namespace deixis::train {
 
 namespace {
 
-using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-using MatrixMap = Eigen::Map<RowMatrix>;
-using ConstMatrixMap = Eigen::Map<const RowMatrix>;
 using Strided = Eigen::Map<RowMatrix, 0, Eigen::OuterStride<>>;
 using ConstStrided = Eigen::Map<const RowMatrix, 0, Eigen::OuterStride<>>;
-
-ConstMatrixMap map(const torch::Tensor& t, Eigen::Index rows, Eigen::Index cols) {
-  return ConstMatrixMap(t.data_ptr<float>(), rows, cols);
-}
-MatrixMap map_mut(torch::Tensor& t, Eigen::Index rows, Eigen::Index cols) {
-  return MatrixMap(t.data_ptr<float>(), rows, cols);
-}
 
 // Saved per time step for backpropagation through time: r, z, n and W_hn·h + b_hn, each
 // [batch, hidden], stored as [time, batch, 4·hidden].

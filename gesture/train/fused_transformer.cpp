@@ -1,5 +1,7 @@
 #include "gesture/train/fused_transformer.h"
 
+#include "gesture/train/tensor_maps.h"
+
 #include <ATen/CPUGeneratorImpl.h>
 #include <torch/autograd.h>
 #include <torch/nn/modules/transformerlayer.h>
@@ -14,27 +16,7 @@ namespace deixis::train {
 
 namespace {
 
-using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-using MatrixMap = Eigen::Map<RowMatrix>;
-using ConstMatrixMap = Eigen::Map<const RowMatrix>;
-using Vector = Eigen::Map<Eigen::RowVectorXf>;
-using ConstVector = Eigen::Map<const Eigen::RowVectorXf>;
-
 constexpr float kLayerNormEps = 1e-5f;
-
-ConstMatrixMap map(const torch::Tensor& t, Eigen::Index rows, Eigen::Index cols,
-                   Eigen::Index offset = 0) {
-  return ConstMatrixMap(t.data_ptr<float>() + offset, rows, cols);
-}
-MatrixMap map_mut(torch::Tensor& t, Eigen::Index rows, Eigen::Index cols, Eigen::Index offset = 0) {
-  return MatrixMap(t.data_ptr<float>() + offset, rows, cols);
-}
-ConstVector vec(const torch::Tensor& t) {
-  return ConstVector(t.data_ptr<float>(), t.numel());
-}
-Vector vec_mut(torch::Tensor& t) {
-  return Vector(t.data_ptr<float>(), t.numel());
-}
 
 // ---- dropout masks ----
 
@@ -117,8 +99,8 @@ void apply_mask(Eigen::Ref<RowMatrix> m, const float* mask) {
 // ---- layer norm ----
 
 // y = γ ⊙ x̂ + β, x̂ = (x − mean) / √(var + eps) per row; keeps x̂ and 1/√(var + eps).
-void layer_norm(const Eigen::Ref<const RowMatrix>& x, const ConstVector& gamma,
-                const ConstVector& beta, Eigen::Ref<RowMatrix> x_hat, float* rstd,
+void layer_norm(const Eigen::Ref<const RowMatrix>& x, const ConstVectorMap& gamma,
+                const ConstVectorMap& beta, Eigen::Ref<RowMatrix> x_hat, float* rstd,
                 Eigen::Ref<RowMatrix> y) {
   const auto n = static_cast<float>(x.cols());
   for (Eigen::Index r = 0; r < x.rows(); ++r) {
@@ -134,8 +116,8 @@ void layer_norm(const Eigen::Ref<const RowMatrix>& x, const ConstVector& gamma,
 // Backward of layer_norm: writes ∂L/∂γ, ∂L/∂β, and ∂L/∂x into dx.
 // ∂L/∂x = rstd · (g − mean(g) − x̂ · mean(g ⊙ x̂)) with g = dy ⊙ γ.
 void layer_norm_backward(const Eigen::Ref<const RowMatrix>& dy, const ConstMatrixMap& x_hat,
-                         const float* rstd, const ConstVector& gamma, Vector d_gamma, Vector d_beta,
-                         Eigen::Ref<RowMatrix> dx) {
+                         const float* rstd, const ConstVectorMap& gamma, VectorMap d_gamma,
+                         VectorMap d_beta, Eigen::Ref<RowMatrix> dx) {
   d_gamma = (dy.array() * x_hat.array()).colwise().sum();
   d_beta = dy.colwise().sum();
   const auto n = static_cast<float>(dy.cols());

@@ -16,6 +16,7 @@
 #include "gesture/error.h"
 #include "gesture/train/conv_as_matmul.h"
 #include "gesture/train/forward.h"
+#include "gesture/train/fused_denoiser.h"
 #include "gesture/train/fused_experts.h"
 #include "gesture/train/fused_gru.h"
 #include "gesture/train/fused_transformer.h"
@@ -23,8 +24,6 @@
 namespace deixis::train {
 
 namespace {
-
-namespace F = torch::nn::functional;
 
 constexpr int kWindow = 30;
 constexpr int kExperts = 9;
@@ -228,16 +227,21 @@ class NoiseDecoder : public torch::nn::Module {
     fin_ = register_module("fin", torch::nn::Linear(kConditionVector + kPose + kTime, kHidden));
     fco_ = register_module("fco", torch::nn::Linear(kWide, kPose));
   }
+  // Through the fused node (fused_denoiser.h: one autograd node instead of ≈ 60 operations).
   torch::Tensor forward(const torch::Tensor& condition, const torch::Tensor& noisy,
                         const torch::Tensor& time) {
-    torch::Tensor h = fin_(torch::cat({condition, noisy, time}, -1));
+    DenoiserWeights w;
+    w.fin_weight = fin_->weight;
+    w.fin_bias = fin_->bias;
     for (int b = 0; b < kBlocks; ++b) {
-      h = net_[static_cast<std::size_t>(3 * b)]->as<torch::nn::GroupNorm>()->forward(h);
-      h = F::silu(h);
-      h = net_[static_cast<std::size_t>(3 * b + 2)]->as<torch::nn::Linear>()->forward(
-          torch::cat({h, noisy, condition, time}, -1));
+      auto* norm = net_[static_cast<std::size_t>(3 * b)]->as<torch::nn::GroupNorm>();
+      auto* linear = net_[static_cast<std::size_t>(3 * b + 2)]->as<torch::nn::Linear>();
+      w.blocks.push_back({norm->weight, norm->bias, linear->weight, linear->bias});
+      w.groups = norm->options.num_groups();
     }
-    return fco_(torch::cat({h, noisy, condition, time}, -1));
+    w.fco_weight = fco_->weight;
+    w.fco_bias = fco_->bias;
+    return denoise(condition, noisy, time, w);
   }
 
  private:

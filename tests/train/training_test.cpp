@@ -80,21 +80,33 @@ TEST(Training, TinyUgnetLowersItsLossWithScheduledSampling) {
   EXPECT_EQ(runtime.architecture(), nn::UgnetArchitecture::kMoe);
 }
 
-// The UGNet Transformer trains through the fused encoder layers (fused_transformer.h), dropout
-// included; a few steps must lower its loss and export what the runtime loads.
-TEST(Training, TinyUgnetTransformerLowersItsLoss) {
+// A tiny UGNet of the given architecture, trained three epochs with teacher forcing only (the loss
+// of the network alone), must lower its loss and export what the runtime loads.
+void expect_tiny_ugnet_learns(Network network, nn::UgnetArchitecture architecture) {
   deixis::testing::ScratchDir dir;
   const std::vector<Sequence> train = test_data::synthetic_sequences(12, 60, 3);
   const TrainingData data{ugnet_clips(train), {}};
-  TrainOptions o = tiny_options(Network::kUgnetTransformer, dir.path());
-  o.schedule.teacher_forcing_epochs = 3;  // teacher forcing only: the loss of the network alone
+  TrainOptions o = tiny_options(network, dir.path());
+  o.schedule.teacher_forcing_epochs = 3;
   o.schedule.autoregressive_from_epoch = 4;
   std::ostringstream log;
   const TrainOutcome out = train::train(o, data, log);
   ASSERT_EQ(out.history.size(), 3u);
   EXPECT_LT(out.history.back().train_loss, 0.8 * out.history.front().train_loss) << log.str();
   const nn::Ugnet runtime = nn::Ugnet::load(out.weights);
-  EXPECT_EQ(runtime.architecture(), nn::UgnetArchitecture::kTransformer);
+  EXPECT_EQ(runtime.architecture(), architecture);
+}
+
+// The UGNet Transformer trains through the fused encoder layers (fused_transformer.h), dropout
+// included.
+TEST(Training, TinyUgnetTransformerLowersItsLoss) {
+  expect_tiny_ugnet_learns(Network::kUgnetTransformer, nn::UgnetArchitecture::kTransformer);
+}
+
+// The UGNet Diffusion trains through the fused denoiser (fused_denoiser.h) on its own objective
+// (the clean pose from a noised one at a random step).
+TEST(Training, TinyUgnetDiffusionLowersItsLoss) {
+  expect_tiny_ugnet_learns(Network::kUgnetDiffusion, nn::UgnetArchitecture::kDiffusion);
 }
 
 // The MoE networks and the autoencoder train through direct steps (moe_step.h,
