@@ -52,15 +52,14 @@ void ugnet_bench(benchmark::State& state, const char* checkpoint, const char* fi
   }
 }
 
-// The diffusion UGNet on 64 windows at once (Ugnet::run_batch, what deixis eval's chains use);
-// the time per iteration is for all 64, so divide by 64 for a window's share.
-void BM_UgnetDiffusionBatchOf64(benchmark::State& state) {
+// A UGNet on 64 copies of a fixture window at once (Ugnet::run_batch, what deixis eval's chains
+// use for the diffusion and Transformer variants); the time per iteration is for all 64, so
+// divide by 64 for a window's share.
+void ugnet_batch_of_64_bench(benchmark::State& state, const char* checkpoint, const char* fixture) {
   constexpr std::size_t kBatch = 64;
-  const nn::Ugnet net =
-      nn::Ugnet::load(reference_dir() / "weights/right/UGNet(Diffusion)(AC)120.safetensors");
-  const std::vector<float> window =
-      fixture_window("UGNet_Diffusion_right.safetensors", "input", nn::kUgnetWindowSize);
-  std::vector<float> windows, noise(kBatch * nn::kDiffusionNoiseSize, 0.1f);
+  const nn::Ugnet net = nn::Ugnet::load(reference_dir() / "weights/right" / checkpoint);
+  const std::vector<float> window = fixture_window(fixture, "input", nn::kUgnetWindowSize);
+  std::vector<float> windows, noise(net.needs_noise() ? kBatch * nn::kDiffusionNoiseSize : 0, 0.1f);
   for (std::size_t i = 0; i < kBatch; ++i) {
     windows.insert(windows.end(), window.begin(), window.end());
   }
@@ -126,6 +125,11 @@ BENCHMARK_CAPTURE(ugnet_bench, UGNet_Transformer, "UGNet(Transformer)(AC)120.saf
 BENCHMARK_CAPTURE(ugnet_bench, UGNet_Diffusion, "UGNet(Diffusion)(AC)120.safetensors",
                   "UGNet_Diffusion_right.safetensors")
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_UgnetDiffusionBatchOf64)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(ugnet_batch_of_64_bench, UGNet_Diffusion_BatchOf64,
+                  "UGNet(Diffusion)(AC)120.safetensors", "UGNet_Diffusion_right.safetensors")
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(ugnet_batch_of_64_bench, UGNet_Transformer_BatchOf64,
+                  "UGNet(Transformer)(AC)120.safetensors", "UGNet_Transformer_right.safetensors")
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Amnet)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_MpnetMoePlusUgnetMoe)->Unit(benchmark::kMicrosecond);

@@ -174,9 +174,9 @@ std::vector<std::vector<EndEffectors>> run_chains(const Generator& g,
                                                   std::span<const std::uint64_t> seeds) {
   std::vector<std::vector<EndEffectors>> out;
   out.reserve(pairs.size());
-  if (g.copy_paste() || !g.ugnet->needs_noise()) {
-    // Only the diffusion UGNet gains from the batch (matrix–vector → matrix–matrix); the others'
-    // per-window cost is their own weights' reads either way.
+  if (g.copy_paste() || !g.ugnet->batches()) {
+    // Only the diffusion and Transformer UGNets gain from the batch (their products become
+    // matrix–matrix over many windows); the MoE and MLP run window by window either way.
     for (std::size_t i = 0; i < pairs.size(); ++i) {
       out.push_back(run_chain(g, pairs[i], scale, seeds[i]));
     }

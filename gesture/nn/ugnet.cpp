@@ -102,6 +102,10 @@ void Ugnet::run_batch(std::span<const float> windows, std::span<const float> noi
     diffusion->run_batch(windows, noise, out);
     return;
   }
+  if (const auto* transformer = std::get_if<UgnetTransformer>(&networks_->net)) {
+    transformer->run_batch(windows, out);
+    return;
+  }
   for (std::size_t i = 0; i < count; ++i) {
     const PoseVector x = run(UgnetWindow(windows.subspan(i * kUgnetWindowSize, kUgnetWindowSize)));
     std::copy(x.begin(), x.end(), out.begin() + static_cast<std::ptrdiff_t>(i * kPoseSize));

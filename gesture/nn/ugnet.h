@@ -33,6 +33,10 @@ class Ugnet {
 
   UgnetArchitecture architecture() const;
   bool needs_noise() const { return architecture() == UgnetArchitecture::kDiffusion; }
+  // Whether run_batch() is faster than run() per window (its products batched).
+  bool batches() const {
+    return needs_noise() || architecture() == UgnetArchitecture::kTransformer;
+  }
   std::size_t parameter_count() const;
 
   // `noise` is read only by the diffusion variant: kDiffusionNoiseSize standard-normal draws
@@ -42,10 +46,10 @@ class Ugnet {
 
   // run() on `out.size() / kPoseSize` windows, for offline work over many sequences (deixis
   // eval): window i is windows[i·kUgnetWindowSize …], its draws noise[i·kDiffusionNoiseSize …]
-  // (or none: `noise` empty), its prediction out[i·kPoseSize …]. The diffusion variant
-  // denoises the windows as one batch (matrix–matrix products; its results equal run()'s up to
-  // float rounding), the others call run() per window. Unlike run(), it allocates; sizes that
-  // do not fit together throw std::invalid_argument.
+  // (or none: `noise` empty), its prediction out[i·kPoseSize …]. The diffusion and Transformer
+  // variants run the windows as one batch (matrix–matrix products; their results equal run()'s
+  // up to float rounding), the others call run() per window. Unlike run(), it allocates; sizes
+  // that do not fit together throw std::invalid_argument.
   void run_batch(std::span<const float> windows, std::span<const float> noise,
                  std::span<float> out) const;
 

@@ -69,15 +69,15 @@ TEST(EvalDip, AFingertipOffsetByAKnownAngleGivesThatHeAndVe) {
 
 // run_chains() is run_chain() on each pair: with a diffusion UGNet, chains of different lengths
 // advance in lockstep and UGNet denoises them as one batch, each chain keeping its own draws.
-TEST(EvalChains, BatchedDiffusionChainsAreEachPairsOwnChain) {
-  const fs::path w = deixis::testing::reference_dir() / "weights/left";
-  const nn::Mpnet mpnet = nn::Mpnet::load(w / "MPNet(MoE)(AC)80.safetensors");
-  const nn::Ugnet ugnet = nn::Ugnet::load(w / "UGNet(Diffusion)(AC)120.safetensors");
-  const Generator g{&mpnet, &ugnet};
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+// Five aligned pairs of random frames (31–60 frames each) and a seed for each.
+struct RandomPairs {
   std::vector<AlignedPair> pairs;
   std::vector<std::uint64_t> seeds;
+};
+RandomPairs random_pairs() {
+  RandomPairs r;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> value(-1.0f, 1.0f);
   for (const std::size_t frames : {37, 52, 31, 45, 60}) {
     AlignedPair pair;
     pair.avatar_initial = pointing(0.0, -20.0);
@@ -89,31 +89,63 @@ TEST(EvalChains, BatchedDiffusionChainsAreEachPairsOwnChain) {
           pointing(30.0 * static_cast<double>(value(rng)), 20.0 * static_cast<double>(value(rng)));
       pair.frames.push_back(f);
     }
-    pairs.push_back(pair);
-    seeds.push_back(rng());
+    r.pairs.push_back(pair);
+    r.seeds.push_back(rng());
   }
-  const std::vector<std::vector<EndEffectors>> batched = run_chains(g, pairs, 1.05f, seeds);
-  ASSERT_EQ(batched.size(), pairs.size());
+  return r;
+}
+
+// The largest end-effector difference between run_chains() (in lockstep, batched) and
+// run_chain() on each pair alone.
+double batched_chains_difference(const Generator& g, const RandomPairs& r,
+                                 std::vector<std::vector<EndEffectors>>& batched) {
+  batched = run_chains(g, r.pairs, 1.05f, r.seeds);
+  EXPECT_EQ(batched.size(), r.pairs.size());
   double worst = 0.0;
-  for (std::size_t i = 0; i < pairs.size(); ++i) {
-    const std::vector<EndEffectors> one = run_chain(g, pairs[i], 1.05f, seeds[i]);
-    ASSERT_EQ(batched[i].size(), one.size()) << "pair " << i;
-    for (std::size_t k = 0; k < one.size(); ++k) {
+  for (std::size_t i = 0; i < r.pairs.size() && i < batched.size(); ++i) {
+    const std::vector<EndEffectors> one = run_chain(g, r.pairs[i], 1.05f, r.seeds[i]);
+    EXPECT_EQ(batched[i].size(), one.size()) << "pair " << i;
+    for (std::size_t k = 0; k < one.size() && k < batched[i].size(); ++k) {
       for (int c = 0; c < kEndEffectorSize; ++c) {
         worst = std::max(worst, static_cast<double>(std::abs(batched[i][k][c] - one[k][c])));
       }
     }
   }
+  return worst;
+}
+
+TEST(EvalChains, BatchedDiffusionChainsAreEachPairsOwnChain) {
+  const fs::path w = deixis::testing::reference_dir() / "weights/left";
+  const nn::Mpnet mpnet = nn::Mpnet::load(w / "MPNet(MoE)(AC)80.safetensors");
+  const nn::Ugnet ugnet = nn::Ugnet::load(w / "UGNet(Diffusion)(AC)120.safetensors");
+  const Generator g{&mpnet, &ugnet};
+  const RandomPairs r = random_pairs();
+  std::vector<std::vector<EndEffectors>> batched;
+  const double worst = batched_chains_difference(g, r, batched);
   std::printf("[ measured ] batched vs one-by-one diffusion chains: max |error| %.2g\n", worst);
   EXPECT_LT(worst, 1e-4);
   // The draws matter (the comparison above could tell chains apart): another seed moves them.
-  const std::vector<EndEffectors> reseeded = run_chain(g, pairs[0], 1.05f, seeds[0] + 1);
+  const std::vector<EndEffectors> reseeded = run_chain(g, r.pairs[0], 1.05f, r.seeds[0] + 1);
   double moved = 0.0;
   for (int c = 0; c < kEndEffectorSize; ++c) {
     moved =
         std::max(moved, static_cast<double>(std::abs(reseeded.back()[c] - batched[0].back()[c])));
   }
   EXPECT_GT(moved, 1e-3);
+}
+
+// The Transformer UGNet's chains run in lockstep too (its products batched over the chains'
+// windows of a frame); each is the pair's own chain.
+TEST(EvalChains, BatchedTransformerChainsAreEachPairsOwnChain) {
+  const fs::path w = deixis::testing::reference_dir() / "weights/right";
+  const nn::Mpnet mpnet = nn::Mpnet::load(w / "MPNet(MoE)(AC)80.safetensors");
+  const nn::Ugnet ugnet = nn::Ugnet::load(w / "UGNet(Transformer)(AC)120.safetensors");
+  ASSERT_TRUE(ugnet.batches());
+  const RandomPairs r = random_pairs();
+  std::vector<std::vector<EndEffectors>> batched;
+  const double worst = batched_chains_difference({&mpnet, &ugnet}, r, batched);
+  std::printf("[ measured ] batched vs one-by-one Transformer chains: max |error| %.2g\n", worst);
+  EXPECT_LT(worst, 1e-4);
 }
 
 TEST(EvalRobustness, AKnownHoldPatternGivesTheExpectedMpjpe) {
