@@ -174,7 +174,7 @@ std::vector<std::vector<EndEffectors>> run_chains(const Generator& g,
                                                   std::span<const std::uint64_t> seeds) {
   std::vector<std::vector<EndEffectors>> out;
   out.reserve(pairs.size());
-  if (g.copy_paste() || !g.ugnet->batches()) {
+  if (g.copy_paste() || !g.ugnet->gains_from_batch()) {
     // Only the diffusion and Transformer UGNets gain from the batch (their products become
     // matrix–matrix over many windows); the MoE and MLP run window by window either way.
     for (std::size_t i = 0; i < pairs.size(); ++i) {

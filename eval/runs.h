@@ -126,10 +126,10 @@ std::vector<EndEffectors> run_chain(const Generator& generator, const AlignedPai
                                     float scale, std::uint64_t seed);
 
 // run_chain() on pairs[i] with seeds[i], for every i. With a diffusion or Transformer UGNet
-// (nn::Ugnet::batches) the chains advance in lockstep and UGNet runs all their windows of a frame
-// as one batch (nn::Ugnet::run_batch; matrix–matrix products), each chain keeping its own draws;
-// the results equal run_chain()'s up to float rounding. Other generators run the pairs one after
-// the other.
+// (nn::Ugnet::gains_from_batch) the chains advance in lockstep and UGNet runs all their windows of
+// a frame as one batch (nn::Ugnet::run_batch; matrix–matrix products), each chain keeping its own
+// draws; the results equal run_chain()'s up to float rounding. Other generators run the pairs one
+// after the other.
 std::vector<std::vector<EndEffectors>> run_chains(const Generator& generator,
                                                   std::span<const AlignedPair> pairs, float scale,
                                                   std::span<const std::uint64_t> seeds);

@@ -34,7 +34,7 @@ class Ugnet {
   UgnetArchitecture architecture() const;
   bool needs_noise() const { return architecture() == UgnetArchitecture::kDiffusion; }
   // Whether run_batch() is faster than run() per window (its products batched).
-  bool batches() const {
+  bool gains_from_batch() const {
     return needs_noise() || architecture() == UgnetArchitecture::kTransformer;
   }
   std::size_t parameter_count() const;

@@ -49,12 +49,14 @@ void UgnetTransformer::embed(UgnetWindow window, Tokens&& tokens, Qkv&& qkv) con
 
 PoseVector UgnetTransformer::run(UgnetWindow window) const {
   Layer::TokenMatrix tokens;
-  Layer::QkvMatrix qkv;
-  embed(window, tokens, qkv);
-  qkv.row(kTokens - 1).noalias() =
-      tokens.row(kTokens - 1) * layers[0].in_proj_weight.view().transpose();
-  qkv.row(kTokens - 1) += layers[0].in_proj_bias.view().transpose();
-  layers[0].run_projected(qkv, tokens);
+  {  // qkv (60 KB) leaves the stack before the other layers put theirs on it
+    Layer::QkvMatrix qkv;
+    embed(window, tokens, qkv);
+    qkv.row(kTokens - 1).noalias() =
+        tokens.row(kTokens - 1) * layers[0].in_proj_weight.view().transpose();
+    qkv.row(kTokens - 1) += layers[0].in_proj_bias.view().transpose();
+    layers[0].run_projected(qkv, tokens);
+  }
   for (int l = 1; l + 1 < kLayers; ++l) {
     layers[l].run(tokens);
   }

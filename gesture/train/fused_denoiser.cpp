@@ -13,6 +13,8 @@ namespace {
 
 constexpr float kGroupNormEps = 1e-5f;
 
+using RowArray = Eigen::Array<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
 // Where each tensor sits in the node's flat input list.
 enum Input : std::size_t { kCondition, kNoisy, kTime, kFinWeight, kFinBias, kFirstBlock };
 enum BlockInput : std::size_t { kNormWeight, kNormBias, kWeight, kBias, kPerBlock };
@@ -28,7 +30,7 @@ struct Dims {
 std::size_t block_input(Eigen::Index block, BlockInput which) {
   return kFirstBlock + static_cast<std::size_t>(block) * kPerBlock + which;
 }
-std::size_t fco_weight(const Dims& s) {
+std::size_t fco_weight_index(const Dims& s) {
   return kFirstBlock + static_cast<std::size_t>(s.blocks) * kPerBlock;
 }
 
@@ -126,8 +128,8 @@ struct DenoiserFunction : public torch::autograd::Function<DenoiserFunction> {
     last_input.leftCols(hid) = h;
     torch::Tensor out = torch::empty({b, s.pose}, f32);
     map_mut(out, b, s.pose).noalias() =
-        last_input * map(in[fco_weight(s)], s.pose, wide).transpose();
-    map_mut(out, b, s.pose).rowwise() += vec(in[fco_weight(s) + 1]);
+        last_input * map(in[fco_weight_index(s)], s.pose, wide).transpose();
+    map_mut(out, b, s.pose).rowwise() += vec(in[fco_weight_index(s) + 1]);
 
     torch::autograd::variable_list saved = in;
     saved.insert(saved.end(), {fin_input, layer_inputs, x_hat, rstd, normed});
@@ -146,6 +148,7 @@ struct DenoiserFunction : public torch::autograd::Function<DenoiserFunction> {
     const Eigen::Index b = s.batch, hid = s.hidden, wide = s.wide();
     const torch::Tensor& layer_inputs = buffers[kLayerInputs];
     const bool data_gradients = ctx->needs_input_grad(kCondition) || ctx->needs_input_grad(kNoisy);
+    const bool time_gradient = ctx->needs_input_grad(kTime);
 
     torch::autograd::variable_list grads(n + 1);  // + the groups argument's (none)
     // Every gradient is written whole, so it needs no zeroing.
@@ -154,7 +157,7 @@ struct DenoiserFunction : public torch::autograd::Function<DenoiserFunction> {
       return i;
     };
     // The gradient at noisy ++ condition ++ time, summed over fco and the blocks; only time's
-    // columns when the data need none (they are data in training: only the time embedding has
+    // columns when the data need none (in training they are data: only the step embedding has
     // parameters before it).
     RowMatrix d_rest = RowMatrix::Zero(b, s.rest());
     // One linear layer reading [h ++ rest]: its weight and bias gradients, d_rest, and the
@@ -168,20 +171,20 @@ struct DenoiserFunction : public torch::autograd::Function<DenoiserFunction> {
       d_input_h.noalias() = d_output * w.leftCols(hid);
       if (data_gradients) {
         d_rest.noalias() += d_output * w.rightCols(s.rest());
-      } else {
+      } else if (time_gradient) {
         d_rest.rightCols(s.time).noalias() += d_output * w.rightCols(s.time);
       }
     };
 
     const RowMatrix d_out = map(grad_outputs[0].contiguous(), b, s.pose);
     RowMatrix d_h(b, hid), d_y(b, hid);
-    linear_backward(d_out, fco_weight(s), s.blocks * b * wide, s.pose, d_h);
+    linear_backward(d_out, fco_weight_index(s), s.blocks * b * wide, s.pose, d_h);
     for (Eigen::Index k = s.blocks - 1; k >= 0; --k) {
       linear_backward(d_h, block_input(k, kWeight), k * b * wide, hid, d_y);
       // SiLU'(y) = σ(y)·(1 + y·(1 − σ(y))).
       const Eigen::Index at = k * b * hid;
       const auto y = map(buffers[kNormed], b, hid, at).array();
-      const Eigen::ArrayXXf sigma = 1.0f / (1.0f + (-y).exp());
+      const RowArray sigma = 1.0f / (1.0f + (-y).exp());
       d_y.array() *= sigma * (1.0f + y * (1.0f - sigma));
       group_norm_backward(d_y, map(buffers[kXHat], b, hid, at),
                           buffers[kRstd].data_ptr<float>() + k * b * s.groups,
@@ -196,8 +199,10 @@ struct DenoiserFunction : public torch::autograd::Function<DenoiserFunction> {
     map_mut(grads[gradient_like(kFinWeight)], hid, fin_width).noalias() =
         d_h.transpose() * map(buffers[kFinInput], b, fin_width);
     vec_mut(grads[gradient_like(kFinBias)]) = d_h.colwise().sum();
-    map_mut(grads[gradient_like(kTime)], b, s.time).noalias() =
-        d_rest.rightCols(s.time) + d_h * fin_w.rightCols(s.time);
+    if (time_gradient) {
+      map_mut(grads[gradient_like(kTime)], b, s.time).noalias() =
+          d_rest.rightCols(s.time) + d_h * fin_w.rightCols(s.time);
+    }
     if (ctx->needs_input_grad(kCondition)) {
       map_mut(grads[gradient_like(kCondition)], b, s.condition).noalias() =
           d_rest.middleCols(s.pose, s.condition) + d_h * fin_w.leftCols(s.condition);
@@ -216,19 +221,36 @@ torch::Tensor denoise(const torch::Tensor& condition, const torch::Tensor& noisy
                       const torch::Tensor& time, const DenoiserWeights& w) {
   TORCH_CHECK(condition.dim() == 2 && noisy.dim() == 2 && time.dim() == 2,
               "denoise: condition, noisy and time must be [batch, features]");
-  TORCH_CHECK(condition.scalar_type() == torch::kFloat32, "denoise: float32 only");
+  TORCH_CHECK(noisy.size(0) == condition.size(0) && time.size(0) == condition.size(0),
+              "denoise: condition, noisy and time must have the same batch");
   const std::int64_t hidden = w.fin_weight.size(0);
+  const std::int64_t pose = noisy.size(1);
+  const std::int64_t rest = condition.size(1) + pose + time.size(1);
   TORCH_CHECK(w.groups > 0 && hidden % w.groups == 0,
               "denoise: groups must divide the hidden width");
-  TORCH_CHECK(w.fin_weight.size(1) == condition.size(1) + noisy.size(1) + time.size(1),
-              "denoise: fin's width is not condition + pose + time");
+  // The node reads every tensor as raw float32 memory of the shape checked here.
+  auto expect = [](const torch::Tensor& t, std::initializer_list<std::int64_t> shape,
+                   const char* what) {
+    TORCH_CHECK(t.device().is_cpu() && t.scalar_type() == torch::kFloat32, "denoise: ", what,
+                " must be a float32 CPU tensor");
+    TORCH_CHECK(t.sizes() == c10::IntArrayRef(shape), "denoise: ", what, " is ", t.sizes(),
+                ", not ", c10::IntArrayRef(shape));
+  };
+  expect(condition, {condition.size(0), condition.size(1)}, "condition");
+  expect(noisy, {condition.size(0), pose}, "noisy");
+  expect(time, {condition.size(0), time.size(1)}, "time");
+  expect(w.fin_weight, {hidden, rest}, "fin's weight (condition + pose + time wide)");
+  expect(w.fin_bias, {hidden}, "fin's bias");
   std::vector<torch::Tensor> inputs{condition, noisy, time, w.fin_weight, w.fin_bias};
   for (const DenoiserBlockWeights& block : w.blocks) {
-    TORCH_CHECK(
-        block.weight.size(0) == hidden && block.weight.size(1) == hidden + w.fin_weight.size(1),
-        "denoise: a block's weight is not [hidden, hidden + pose + condition + time]");
+    expect(block.norm_weight, {hidden}, "a block's norm weight");
+    expect(block.norm_bias, {hidden}, "a block's norm bias");
+    expect(block.weight, {hidden, hidden + rest}, "a block's weight");
+    expect(block.bias, {hidden}, "a block's bias");
     inputs.insert(inputs.end(), {block.norm_weight, block.norm_bias, block.weight, block.bias});
   }
+  expect(w.fco_weight, {pose, hidden + rest}, "fco's weight");
+  expect(w.fco_bias, {pose}, "fco's bias");
   inputs.insert(inputs.end(), {w.fco_weight, w.fco_bias});
   return DenoiserFunction::apply(at::TensorList(inputs), w.groups);
 }

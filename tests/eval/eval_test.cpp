@@ -140,7 +140,7 @@ TEST(EvalChains, BatchedTransformerChainsAreEachPairsOwnChain) {
   const fs::path w = deixis::testing::reference_dir() / "weights/right";
   const nn::Mpnet mpnet = nn::Mpnet::load(w / "MPNet(MoE)(AC)80.safetensors");
   const nn::Ugnet ugnet = nn::Ugnet::load(w / "UGNet(Transformer)(AC)120.safetensors");
-  ASSERT_TRUE(ugnet.batches());
+  ASSERT_TRUE(ugnet.gains_from_batch());
   const RandomPairs r = random_pairs();
   std::vector<std::vector<EndEffectors>> batched;
   const double worst = batched_chains_difference({&mpnet, &ugnet}, r, batched);

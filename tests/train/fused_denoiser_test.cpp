@@ -84,13 +84,18 @@ std::vector<torch::Tensor> gradients(const torch::Tensor& out, const torch::Tens
   return torch::autograd::grad({(out * weighting).sum()}, wrt);
 }
 
-void expect_matches_libtorch(const Sizes& s, bool data_gradients) {
+// Which of the three inputs require gradients (every parameter does).
+struct Requires {
+  bool condition, noisy, time;
+};
+
+void expect_matches_libtorch(const Sizes& s, Requires requires_grad) {
   torch::manual_seed(17);
   const DenoiserWeights w = random_weights(s);
   const torch::Tensor condition =
-      torch::randn({s.batch, s.condition}).requires_grad_(data_gradients);
-  const torch::Tensor noisy = torch::randn({s.batch, s.pose}).requires_grad_(data_gradients);
-  const torch::Tensor time = torch::randn({s.batch, s.time}).requires_grad_();
+      torch::randn({s.batch, s.condition}).requires_grad_(requires_grad.condition);
+  const torch::Tensor noisy = torch::randn({s.batch, s.pose}).requires_grad_(requires_grad.noisy);
+  const torch::Tensor time = torch::randn({s.batch, s.time}).requires_grad_(requires_grad.time);
   const torch::Tensor weighting = torch::randn({s.batch, s.pose});
 
   const torch::Tensor ours = denoise(condition, noisy, time, w);
@@ -108,31 +113,48 @@ void expect_matches_libtorch(const Sizes& s, bool data_gradients) {
 }
 
 // The UGNet Diffusion's denoiser: batch 32, condition 264, pose 24, step embedding 64, hidden 128,
-// GroupNorm(16), 10 blocks. In training the data need no gradient (only the step embedding has
-// parameters before it); the node then computes the time columns' alone.
+// GroupNorm(16), 10 blocks.
+constexpr Sizes kUgnetSizes{32, 264, 24, 64, 128, 16, 10};
+// A batch of 5, groups of 4 channels, 2 blocks.
+constexpr Sizes kOddSizes{5, 7, 3, 4, 12, 3, 2};
+
+// In training the data need no gradient (only the step embedding has parameters before it); the
+// node then computes the time columns' alone.
 TEST(FusedDenoiser, MatchesLibtorchAtTheUgnetsSizes) {
-  expect_matches_libtorch({32, 264, 24, 64, 128, 16, 10}, false);
+  expect_matches_libtorch(kUgnetSizes, {false, false, true});
 }
 
 TEST(FusedDenoiser, MatchesLibtorchWithGradientsForTheData) {
-  expect_matches_libtorch({32, 264, 24, 64, 128, 16, 10}, true);
+  expect_matches_libtorch(kUgnetSizes, {true, true, true});
 }
 
-// Odd sizes: a batch of 5, groups of 4 channels, 2 blocks.
-TEST(FusedDenoiser, MatchesLibtorchAtOddSizes) {
-  expect_matches_libtorch({5, 7, 3, 4, 12, 3, 2}, true);
+// Each input's gradient alone, and none: the node computes only the columns asked for.
+TEST(FusedDenoiser, MatchesLibtorchForEverySubsetOfInputGradients) {
+  for (const Requires r : {Requires{true, false, false}, Requires{false, true, false},
+                           Requires{false, false, true}, Requires{false, false, false}}) {
+    SCOPED_TRACE(::testing::Message()
+                 << "condition " << r.condition << ", noisy " << r.noisy << ", time " << r.time);
+    expect_matches_libtorch(kOddSizes, r);
+  }
 }
 
 TEST(FusedDenoiser, NoBlocksIsFinThenFco) {
-  expect_matches_libtorch({3, 5, 2, 4, 8, 2, 0}, true);
+  expect_matches_libtorch({3, 5, 2, 4, 8, 2, 0}, {true, true, true});
 }
 
-TEST(FusedDenoiser, GroupsThatDoNotDivideTheWidthAreAnError) {
-  const DenoiserWeights w = [] {
-    DenoiserWeights d = random_weights({2, 3, 2, 2, 8, 2, 1});
-    d.groups = 3;
-    return d;
-  }();
+TEST(FusedDenoiser, ShapesThatDoNotFitAreAnError) {
+  DenoiserWeights w = random_weights({2, 3, 2, 2, 8, 2, 1});
+  EXPECT_NO_THROW(denoise(torch::randn({2, 3}), torch::randn({2, 2}), torch::randn({2, 2}), w));
+  EXPECT_THROW(denoise(torch::randn({2, 3}), torch::randn({3, 2}), torch::randn({2, 2}), w),
+               c10::Error);  // batches differ
+  EXPECT_THROW(denoise(torch::randn({2, 4}), torch::randn({2, 2}), torch::randn({2, 2}), w),
+               c10::Error);  // fin is not that wide
+  DenoiserWeights narrow_fco = w;
+  narrow_fco.fco_weight = torch::randn({2, 10});
+  EXPECT_THROW(
+      denoise(torch::randn({2, 3}), torch::randn({2, 2}), torch::randn({2, 2}), narrow_fco),
+      c10::Error);  // fco reads 8 + 7 columns
+  w.groups = 3;     // does not divide the hidden width 8
   EXPECT_THROW(denoise(torch::randn({2, 3}), torch::randn({2, 2}), torch::randn({2, 2}), w),
                c10::Error);
 }
