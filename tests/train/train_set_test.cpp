@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
@@ -153,6 +154,50 @@ TEST(TrainSet, BadOptionsAndMissingDataExitTwoNamingThem) {
             std::string::npos)
       << compress.output;
   EXPECT_FALSE(fs::exists(scratch.path() / "t/checkpoint.safetensors"));
+}
+
+// A stopped session resumes the run nearest its end first: a run's hours left are its epochs left
+// of its schedule when it has a checkpoint (its train.log's last epoch line), all of them when it
+// has none. A stand-in trainer records the order the runs start in (only the order is tested
+// here; the test above trains for real).
+TEST(TrainSet, ResumesTheRunNearestItsEndFirst) {
+  deixis::testing::ScratchDir scratch;
+  const fs::path data = scratch.path() / "data";
+  const fs::path out = scratch.path() / "train";
+  fs::create_directories(data);
+  std::ofstream(data / "train_right.safetensors") << "";
+  const fs::path order = scratch.path() / "order.txt";
+  const fs::path trainer = scratch.path() / "trainer.sh";
+  std::ofstream(trainer) << "#!/bin/sh\n"
+                            "while [ $# -gt 0 ]; do\n"
+                            "  [ \"$1\" = --out ] && basename \"$2\" >> '"
+                         << order.string()
+                         << "'\n"
+                            "  shift\n"
+                            "done\n";
+  fs::permissions(trainer, fs::perms::owner_all);
+  // UGNet MoE left: 119 of 120 epochs done (0.01 h left of 1.7); right: the same log but no
+  // checkpoint, so it starts over (1.7 h, last).
+  for (const char* hand : {"left", "right"}) {
+    fs::create_directories(out / concat("ugnet-moe-", hand));
+    std::ofstream(out / concat("ugnet-moe-", hand) / "train.log")
+        << "epoch 118/120  train 0.1\nepoch 119/120  train 0.1\n";
+  }
+  std::ofstream(out / "ugnet-moe-left/checkpoint.safetensors") << "";
+
+  const Outcome outcome =
+      run(concat(train_set(), " --lanes 1 --data ", quoted(data.string()), " --out ",
+                 quoted(out.string()), " --trainer ", quoted(trainer.string())),
+          scratch.path());
+  ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
+  std::istringstream lines(read_all(order));
+  std::vector<std::string> started;
+  for (std::string line; std::getline(lines, line);) {
+    started.push_back(line);
+  }
+  ASSERT_EQ(started.size(), 4u) << read_all(order);
+  EXPECT_EQ(started.front(), "ugnet-moe-left");
+  EXPECT_EQ(started.back(), "ugnet-moe-right");
 }
 
 TEST(TrainSet, AFailingRunFailsTheCommandAndShowsWhy) {
