@@ -1,13 +1,16 @@
 #include "eval/evaluation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <initializer_list>
 #include <map>
 #include <mutex>
+#include <numeric>
 #include <optional>
 #include <string_view>
 #include <system_error>
@@ -37,14 +40,19 @@ struct ChainSpec {
   const char* mpnet;
   const char* ugnet;
   bool table1, table4, robustness;
+  // About how long the row takes on a full subject (seconds of one core, the progress lines of a
+  // full run, docs/eval.md): units are handed out longest first (evaluate_subjects).
+  double seconds;
 };
 constexpr std::array<ChainSpec, 5> kChains = {{
-    {"MoE (AC)", kMpnetMoe, "UGNet(MoE)(AC)120", true, true, true},
-    {"MoE (DG)", "MPNet(MoE)(DG)80", "UGNet(MoE)(DG)120", true, false, false},
-    {"MLP", kMpnetMoe, "UGNet(MLP)(AC)120", false, true, false},
-    {"Diffusion", kMpnetMoe, "UGNet(Diffusion)(AC)120", false, true, false},
-    {"Transformer", kMpnetMoe, "UGNet(Transformer)(AC)120", false, true, false},
+    {"MoE (AC)", kMpnetMoe, "UGNet(MoE)(AC)120", true, true, true, 40},
+    {"MoE (DG)", "MPNet(MoE)(DG)80", "UGNet(MoE)(DG)120", true, false, false, 24},
+    {"MLP", kMpnetMoe, "UGNet(MLP)(AC)120", false, true, false, 25},
+    {"Diffusion", kMpnetMoe, "UGNet(Diffusion)(AC)120", false, true, false, 137},
+    {"Transformer", kMpnetMoe, "UGNet(Transformer)(AC)120", false, true, false, 210},
 }};
+// The MPNet rows of a weight set, and the copy-paste row, on a full subject.
+constexpr double kOtherUnitSeconds = 5;
 struct MpnetSpec {
   const char* label;
   const char* file;
@@ -427,7 +435,17 @@ void evaluate_subjects(const EvalOptions& options, const std::vector<TestSet>& s
   const int threads = options.threads > 0
                           ? options.threads
                           : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  run_units(units.size(), threads, [&](std::size_t i) {
+  // Longest first (LPT order), so that no long unit (the Transformer rows: minutes) starts last
+  // while the other threads have run out of work; the tables are merged in unit order anyway.
+  const auto seconds = [](const Unit& u) {
+    return u.chain ? kChains[*u.chain].seconds : kOtherUnitSeconds;
+  };
+  std::vector<std::size_t> order(units.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::ranges::stable_sort(order, std::ranges::greater{},
+                           [&](std::size_t i) { return seconds(units[i]); });
+  run_units(units.size(), threads, [&](std::size_t k) {
+    const std::size_t i = order[k];
     const Context c{options, parts[i], progress_lock};
     evaluate_unit(c, sets[units[i].subject], units[i]);
   });

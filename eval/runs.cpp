@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "eval/perturbation.h"
@@ -356,32 +357,68 @@ DrResult run_dr(const nn::Ugnet* ugnet, const TestSet& set, const Sampling& samp
 // ---- FMD -----------------------------------------------------------------------------------
 
 std::vector<double> run_fmd(const Generator& g, const nn::MotionEncoder& encoder,
-                            const TestSet& set, const Sampling& sampling) {
+                            const TestSet& set, const Sampling& sampling, FmdReuse reuse) {
+  // A trial draws every sequence's partner at random, so over ten trials pairs recur (≈ 22 % of
+  // the chains of a full test subject, most in the categories of 8 sequences), and the
+  // Transformer UGNet's chains are most of the evaluation's time (docs/eval.md).
+  const bool noise_free = g.copy_paste() || !g.ugnet->needs_noise();
+  using Codes = std::vector<std::vector<double>>;
+  std::map<std::size_t, Codes> real_of;                               // by user sequence
+  std::map<std::pair<std::size_t, std::size_t>, Codes> generated_of;  // by (user, partner)
   std::vector<double> trials;
   for (int trial = 0; trial < sampling.fmd_trials; ++trial) {
+    if (reuse == FmdReuse::kOff) {
+      real_of.clear();
+      generated_of.clear();
+    }
     std::mt19937_64 rng = stream(sampling.seed, 0x666d64, static_cast<std::uint64_t>(trial));
-    std::vector<std::vector<double>> real, generated;
+    Codes real, generated;
     for (const Category c : capture::kAllCategories) {
       const std::vector<std::size_t> list = selected(set, c, sampling);
       if (list.empty()) {
         continue;
       }
+      // Every user's partner and seed are drawn whether or not its chain runs, so the draws of
+      // later pairs (and a diffusion UGNet's noise) do not depend on what was reused.
       std::uniform_int_distribution<std::size_t> pick(0, list.size() - 1);
+      std::vector<std::pair<std::size_t, std::size_t>> keys;
       std::vector<AlignedPair> pairs;
       std::vector<std::uint64_t> seeds;
+      std::vector<std::size_t> chained_key;  // keys[chained_key[p]] is pairs[p]
       for (const std::size_t user : list) {
-        pairs.push_back(align_whole(set, user, list[pick(rng)]));
-        seeds.push_back(rng());
+        keys.emplace_back(user, list[pick(rng)]);
+        const std::uint64_t seed = rng();
+        if (noise_free && generated_of.contains(keys.back())) {
+          continue;
+        }
+        pairs.push_back(align_whole(set, user, keys.back().second));
+        seeds.push_back(seed);
+        chained_key.push_back(keys.size() - 1);
       }
       const std::vector<std::vector<EndEffectors>> chained =
           run_chains(g, pairs, scale_of(set), seeds);
+      std::vector<Codes> fresh(keys.size());
       for (std::size_t p = 0; p < pairs.size(); ++p) {
-        std::vector<EndEffectors> motion;
-        for (const TranslationInput& f : pairs[p].frames) {
-          motion.push_back(f.user_x);
+        const std::size_t user = keys[chained_key[p]].first;
+        if (!real_of.contains(user)) {
+          std::vector<EndEffectors> motion;
+          for (const TranslationInput& f : pairs[p].frames) {
+            motion.push_back(f.user_x);
+          }
+          encode_segments(encoder, motion, real_of[user]);
         }
-        encode_segments(encoder, motion, real);
-        encode_segments(encoder, chained[p], generated);
+        encode_segments(encoder, chained[p], fresh[chained_key[p]]);
+      }
+      // In the list's order, as without reuse (the covariances' sums in the same order).
+      for (std::size_t k = 0; k < keys.size(); ++k) {
+        const Codes& r = real_of.at(keys[k].first);
+        real.insert(real.end(), r.begin(), r.end());
+        const auto known = generated_of.find(keys[k]);
+        const Codes& codes = known != generated_of.end() && noise_free ? known->second : fresh[k];
+        generated.insert(generated.end(), codes.begin(), codes.end());
+        if (noise_free && known == generated_of.end()) {
+          generated_of.emplace(keys[k], std::move(fresh[k]));
+        }
       }
     }
     if (real.size() >= 2 && generated.size() >= 2) {

@@ -96,9 +96,17 @@ DrResult run_dr(const nn::Ugnet* ugnet, const TestSet& set, const Sampling& samp
 
 // ---- FMD -----------------------------------------------------------------------------------
 
+// Whether run_fmd() reuses what does not change from one trial to the next: the codes of a
+// user's own motion (the real side: its recorded rows, whatever the partner), and for a generator
+// without noise the codes of a pair drawn again (its chain is the same). The figures are the same
+// either way (up to float rounding for the batched UGNets, whose batches differ); off only to test
+// that.
+enum class FmdReuse { kOn, kOff };
+
 // One FMD per trial (each trial pairs every sequence with a random one of its category).
 std::vector<double> run_fmd(const Generator& generator, const nn::MotionEncoder& encoder,
-                            const TestSet& set, const Sampling& sampling);
+                            const TestSet& set, const Sampling& sampling,
+                            FmdReuse reuse = FmdReuse::kOn);
 
 // ---- Robustness ----------------------------------------------------------------------------
 

@@ -284,6 +284,39 @@ TEST_F(EvalRun, IdenticalMotionGivesFmdZero) {
   }
 }
 
+// run_fmd() reuses the codes of a user's own motion and, without noise, of a pair drawn again;
+// that changes no figure. Few sequences per category, so that pairs recur across the trials
+// (with one, every sequence is its own partner in every trial).
+TEST_F(EvalRun, FmdReusingRecurringPairsChangesNothing) {
+  const TestSet set = TestSet::read(data() / "test_161.safetensors");
+  const nn::MotionEncoder enc =
+      nn::MotionEncoder::load(encoder() / "right/AutoEncoder.safetensors");
+  const fs::path w = deixis::testing::reference_dir() / "weights/right";
+  const nn::Mpnet mpnet = nn::Mpnet::load(w / "MPNet(MoE)(AC)80.safetensors");
+  const nn::Ugnet moe = nn::Ugnet::load(w / "UGNet(MoE)(AC)120.safetensors");
+  const nn::Ugnet diffusion = nn::Ugnet::load(w / "UGNet(Diffusion)(AC)120.safetensors");
+  Sampling s = quick_sampling();
+  // The MoE runs chain by chain, so reuse is exact. Trials differ (other partners), so codes
+  // reused where they should not be would show.
+  s.fmd_trials = 4;
+  s.per_category = 2;
+  const Generator with_moe{&mpnet, &moe};
+  const std::vector<double> reused = run_fmd(with_moe, enc, set, s, FmdReuse::kOn);
+  EXPECT_EQ(reused, run_fmd(with_moe, enc, set, s, FmdReuse::kOff));
+  ASSERT_EQ(reused.size(), 4u);
+  EXPECT_NE(reused[0], reused[1]);
+  // The diffusion UGNet draws new noise for every chain, so only its real side may be reused;
+  // its chains (same seeds, same batches) are exact too. One sequence per category: each is its
+  // own partner in every trial.
+  s.fmd_trials = 2;
+  s.per_category = 1;
+  const Generator with_diffusion{&mpnet, &diffusion};
+  const std::vector<double> noisy = run_fmd(with_diffusion, enc, set, s, FmdReuse::kOn);
+  EXPECT_EQ(noisy, run_fmd(with_diffusion, enc, set, s, FmdReuse::kOff));
+  ASSERT_EQ(noisy.size(), 2u);
+  EXPECT_NE(noisy[0], noisy[1]);
+}
+
 TEST_F(EvalRun, QuickRunWritesWellFormedTables) {
 #ifdef DEIXIS_SANITIZED
   // Every network of every table over two subjects: 20 s in the release suite, which runs it,
