@@ -295,26 +295,25 @@ TEST_F(EvalRun, FmdReusingRecurringPairsChangesNothing) {
   const nn::Mpnet mpnet = nn::Mpnet::load(w / "MPNet(MoE)(AC)80.safetensors");
   const nn::Ugnet moe = nn::Ugnet::load(w / "UGNet(MoE)(AC)120.safetensors");
   const nn::Ugnet diffusion = nn::Ugnet::load(w / "UGNet(Diffusion)(AC)120.safetensors");
-  Sampling s = quick_sampling();
-  // The MoE runs chain by chain, so reuse is exact. Trials differ (other partners), so codes
-  // reused where they should not be would show.
-  s.fmd_trials = 4;
-  s.per_category = 2;
-  const Generator with_moe{&mpnet, &moe};
-  const std::vector<double> reused = run_fmd(with_moe, enc, set, s, FmdReuse::kOn);
-  EXPECT_EQ(reused, run_fmd(with_moe, enc, set, s, FmdReuse::kOff));
-  ASSERT_EQ(reused.size(), 4u);
-  EXPECT_NE(reused[0], reused[1]);
+  // With reuse and without, the same FMD per trial; the first two trials differ (other partners
+  // or other noise), so codes reused where they should not be would show.
+  const auto expect_reuse_exact = [&](const nn::Ugnet& ugnet, int trials,
+                                      std::size_t per_category) {
+    Sampling s = quick_sampling();
+    s.fmd_trials = trials;
+    s.per_category = per_category;
+    const Generator g{&mpnet, &ugnet};
+    const std::vector<double> reused = run_fmd(g, enc, set, s, FmdReuse::kOn);
+    EXPECT_EQ(reused, run_fmd(g, enc, set, s, FmdReuse::kOff));
+    ASSERT_EQ(reused.size(), static_cast<std::size_t>(trials));
+    EXPECT_NE(reused[0], reused[1]);
+  };
+  // The MoE runs chain by chain, so reuse is exact.
+  expect_reuse_exact(moe, 4, 2);
   // The diffusion UGNet draws new noise for every chain, so only its real side may be reused;
   // its chains (same seeds, same batches) are exact too. One sequence per category: each is its
   // own partner in every trial.
-  s.fmd_trials = 2;
-  s.per_category = 1;
-  const Generator with_diffusion{&mpnet, &diffusion};
-  const std::vector<double> noisy = run_fmd(with_diffusion, enc, set, s, FmdReuse::kOn);
-  EXPECT_EQ(noisy, run_fmd(with_diffusion, enc, set, s, FmdReuse::kOff));
-  ASSERT_EQ(noisy.size(), 2u);
-  EXPECT_NE(noisy[0], noisy[1]);
+  expect_reuse_exact(diffusion, 2, 1);
 }
 
 TEST_F(EvalRun, QuickRunWritesWellFormedTables) {
