@@ -150,7 +150,8 @@ Mean run_state_stability(const nn::Mpnet& mpnet, const TestSet& set, const Sampl
 // ---- the chained loop ----------------------------------------------------------------------
 
 std::vector<EndEffectors> run_chain(const Generator& g, const AlignedPair& pair, float scale,
-                                    std::uint64_t seed) {
+                                    std::uint64_t seed,
+                                    std::span<const nn::Progression> progressions) {
   std::vector<EndEffectors> out;
   out.reserve(pair.frames.size());
   if (g.copy_paste()) {
@@ -165,21 +166,44 @@ std::vector<EndEffectors> run_chain(const Generator& g, const AlignedPair& pair,
   loop.reset(pair.frames.front(), pair.avatar_initial, draws(*g.ugnet, rng, buffer));
   out.push_back(loop.prediction());
   for (std::size_t k = 0; k + 1 < pair.frames.size(); ++k) {
-    out.push_back(loop.step(pair.frames[k], draws(*g.ugnet, rng, buffer)).prediction);
+    TranslationStep step = progressions.empty() ? loop.begin_step(pair.frames[k])
+                                                : loop.begin_step(pair.frames[k], progressions[k]);
+    const std::span<const float> noise = draws(*g.ugnet, rng, buffer);
+    loop.end_step(g.ugnet->run(loop.ugnet_window(), noise), step);
+    out.push_back(step.prediction);
   }
   return out;
 }
 
-std::vector<std::vector<EndEffectors>> run_chains(const Generator& g,
-                                                  std::span<const AlignedPair> pairs, float scale,
-                                                  std::span<const std::uint64_t> seeds) {
+std::vector<nn::Progression> user_progressions(const nn::Mpnet& mpnet, const AlignedPair& pair) {
+  // The loop's MPNet window at step k is the last 30 of [f0 × 30, f0 … fk]: MPE's windows
+  // (predict_progressions) over the steps' rows f0 … f(n−2).
+  std::vector<float> rows;
+  for (std::size_t k = 0; k + 1 < pair.frames.size(); ++k) {
+    rows.insert(rows.end(), pair.frames[k].user_features.begin(),
+                pair.frames[k].user_features.end());
+  }
+  std::vector<nn::Progression> out;
+  for (const capture::Labels& p : capture::predict_progressions(mpnet, rows)) {
+    out.push_back({p[0], p[1], p[2]});
+  }
+  return out;
+}
+
+std::vector<std::vector<EndEffectors>> run_chains(
+    const Generator& g, std::span<const AlignedPair> pairs, float scale,
+    std::span<const std::uint64_t> seeds,
+    std::span<const std::span<const nn::Progression>> progressions) {
+  const auto known = [&](std::size_t i) {
+    return progressions.empty() ? std::span<const nn::Progression>() : progressions[i];
+  };
   std::vector<std::vector<EndEffectors>> out;
   out.reserve(pairs.size());
   if (g.copy_paste() || !g.ugnet->gains_from_batch()) {
     // Only the diffusion and Transformer UGNets gain from the batch (their products become
     // matrix–matrix over many windows); the MoE and MLP run window by window either way.
     for (std::size_t i = 0; i < pairs.size(); ++i) {
-      out.push_back(run_chain(g, pairs[i], scale, seeds[i]));
+      out.push_back(run_chain(g, pairs[i], scale, seeds[i], known(i)));
     }
     return out;
   }
@@ -215,7 +239,8 @@ std::vector<std::vector<EndEffectors>> run_chains(const Generator& g,
     predictions.resize(active.size() * nn::kPoseSize);
     for (std::size_t a = 0; a < active.size(); ++a) {
       const std::size_t i = active[a];
-      steps[a] = loops[i].begin_step(pairs[i].frames[k]);
+      steps[a] = known(i).empty() ? loops[i].begin_step(pairs[i].frames[k])
+                                  : loops[i].begin_step(pairs[i].frames[k], known(i)[k]);
       std::ranges::copy(loops[i].ugnet_window(), windows.begin() + a * nn::kUgnetWindowSize);
       std::ranges::copy(draws(*g.ugnet, rngs[i], buffer),
                         noise.begin() + a * nn::kDiffusionNoiseSize);
@@ -363,8 +388,9 @@ std::vector<double> run_fmd(const Generator& g, const nn::MotionEncoder& encoder
   // Transformer UGNet's chains are most of the evaluation's time (docs/eval.md).
   const bool noise_free = g.copy_paste() || !g.ugnet->needs_noise();
   using Codes = std::vector<std::vector<double>>;
-  std::map<std::size_t, Codes> real_of;                               // by user sequence
-  std::map<std::pair<std::size_t, std::size_t>, Codes> generated_of;  // by (user, partner)
+  std::map<std::size_t, Codes> real_of;                                 // by user sequence
+  std::map<std::pair<std::size_t, std::size_t>, Codes> generated_of;    // by (user, partner)
+  std::map<std::size_t, std::vector<nn::Progression>> progressions_of;  // by user sequence
   std::vector<double> trials;
   for (int trial = 0; trial < sampling.fmd_trials; ++trial) {
     if (reuse == FmdReuse::kOff) {
@@ -395,8 +421,18 @@ std::vector<double> run_fmd(const Generator& g, const nn::MotionEncoder& encoder
         seeds.push_back(seed);
         chained_key.push_back(keys.size() - 1);
       }
+      // MPNet's outputs along a user's rows, whatever the partner.
+      std::vector<std::span<const nn::Progression>> progressions;
+      for (std::size_t p = 0; p < pairs.size() && reuse == FmdReuse::kOn && !g.copy_paste(); ++p) {
+        const std::size_t user = keys[chained_key[p]].first;
+        auto at = progressions_of.find(user);
+        if (at == progressions_of.end()) {
+          at = progressions_of.emplace(user, user_progressions(*g.mpnet, pairs[p])).first;
+        }
+        progressions.emplace_back(at->second);
+      }
       const std::vector<std::vector<EndEffectors>> chained =
-          run_chains(g, pairs, scale_of(set), seeds);
+          run_chains(g, pairs, scale_of(set), seeds, progressions);
       std::vector<Codes> fresh(keys.size());
       for (std::size_t p = 0; p < pairs.size(); ++p) {
         const std::size_t user = keys[chained_key[p]].first;

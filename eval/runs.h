@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "capture/judge.h"
@@ -97,8 +98,9 @@ DrResult run_dr(const nn::Ugnet* ugnet, const TestSet& set, const Sampling& samp
 // ---- FMD -----------------------------------------------------------------------------------
 
 // Whether run_fmd() reuses what does not change from one trial to the next: the codes of a
-// user's own motion (the real side: its recorded rows, whatever the partner), and for a generator
-// without noise the codes of a pair drawn again (its chain is the same). The figures are the same
+// user's own motion (the real side: its recorded rows, whatever the partner) and MPNet's outputs
+// along them, and for a generator without noise the codes of a pair drawn again (its chain is the
+// same). The figures are the same
 // either way (up to float rounding for the batched UGNets, whose batches differ); off only to test
 // that.
 enum class FmdReuse { kOn, kOff };
@@ -130,17 +132,25 @@ RobustnessResult run_robustness(const Generator& generator, const TestSet& set,
 // the avatar's end-effectors at frame k from the windows ending at frame k − 1 (frame 0: the
 // 30-row prefix). The copy-paste generator returns the user's end-effectors. `seed` feeds the
 // diffusion UGNet's draws.
+// `progressions`, when given, are MPNet's outputs for the chain's steps (user_progressions()),
+// so MPNet does not run again.
 std::vector<EndEffectors> run_chain(const Generator& generator, const AlignedPair& pair,
-                                    float scale, std::uint64_t seed);
+                                    float scale, std::uint64_t seed,
+                                    std::span<const nn::Progression> progressions = {});
 
 // run_chain() on pairs[i] with seeds[i], for every i. With a diffusion or Transformer UGNet
 // (nn::Ugnet::gains_from_batch) the chains advance in lockstep and UGNet runs all their windows of
 // a frame as one batch (nn::Ugnet::run_batch; matrix–matrix products), each chain keeping its own
 // draws; the results equal run_chain()'s up to float rounding. Other generators run the pairs one
 // after the other.
-std::vector<std::vector<EndEffectors>> run_chains(const Generator& generator,
-                                                  std::span<const AlignedPair> pairs, float scale,
-                                                  std::span<const std::uint64_t> seeds);
+std::vector<std::vector<EndEffectors>> run_chains(
+    const Generator& generator, std::span<const AlignedPair> pairs, float scale,
+    std::span<const std::uint64_t> seeds,
+    std::span<const std::span<const nn::Progression>> progressions = {});
+
+// MPNet's outputs along a pair's chain, step by step: they read the user's rows only, so pairs
+// with the same user rows (FMD's, whatever the partner) share them.
+std::vector<nn::Progression> user_progressions(const nn::Mpnet& mpnet, const AlignedPair& pair);
 
 // HE/VE (pointing) or PE (touching) of the chain's prediction for the pair's last frame.
 PointingError dip_pointing(const EndEffectors& x, const Vec3& target_in_root);

@@ -89,6 +89,16 @@ TranslationStep TranslationLoop::step(const TranslationInput& frame, std::span<c
 }
 
 TranslationStep TranslationLoop::begin_step(const TranslationInput& frame) {
+  return begin_step_with(frame, nullptr);
+}
+
+TranslationStep TranslationLoop::begin_step(const TranslationInput& frame,
+                                            const nn::Progression& known) {
+  return begin_step_with(frame, &known);
+}
+
+TranslationStep TranslationLoop::begin_step_with(const TranslationInput& frame,
+                                                 const nn::Progression* known) {
   TranslationStep out;
   out.head_weight = counters_.head_weight();
   out.hand_weight = counters_.hand_weight();
@@ -97,7 +107,11 @@ TranslationStep TranslationLoop::begin_step(const TranslationInput& frame) {
 
   push_user_row(frame);
   push_avatar_row(out.avatar_x, frame.avatar_target);
-  run_mpnet();
+  if (known != nullptr) {
+    take_progression(*known);
+  } else {
+    run_mpnet();
+  }
   out.progression = progression_;
   return out;
 }
@@ -128,7 +142,11 @@ void TranslationLoop::run_networks(std::span<const float> noise) {
 // MPNet on the user's window; its progression goes into the avatar's newest row (which UGNet
 // reads next) and drives the blend counters of the next step.
 void TranslationLoop::run_mpnet() {
-  progression_ = mpnet_.run(mpnet_window_).progression;
+  take_progression(mpnet_.run(mpnet_window_).progression);
+}
+
+void TranslationLoop::take_progression(const nn::Progression& progression) {
+  progression_ = progression;
   std::copy(progression_.begin(), progression_.end(),
             ugnet_window_.end() - kAvatarColumns + kProgressionAt);
   counters_.update(progression_);

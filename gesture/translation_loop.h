@@ -83,6 +83,10 @@ class TranslationLoop {
   // end_step(), which completes the step. step() is exactly that with ugnet.run().
   TranslationStep begin_step(const TranslationInput& frame);
   void end_step(const nn::PoseVector& prediction, TranslationStep& step);
+  // begin_step() when MPNet's output on the window ending at this frame is already known: MPNet
+  // reads only the user's rows, so deixis eval, which chains one user's rows against many
+  // avatars, computes them once per user. `known` must be what MPNet gives on that window.
+  TranslationStep begin_step(const TranslationInput& frame, const nn::Progression& known);
 
   // The windows as the networks last read them (oldest row first), for tests and tools.
   std::span<const float, nn::kMpnetWindowSize> mpnet_window() const { return mpnet_window_; }
@@ -101,6 +105,9 @@ class TranslationLoop {
  private:
   void run_networks(std::span<const float> noise);
   void run_mpnet();
+  void take_progression(const nn::Progression& progression);
+  // Both begin_step()s: MPNet runs unless `known` gives its output.
+  TranslationStep begin_step_with(const TranslationInput& frame, const nn::Progression* known);
   void push_user_row(const TranslationInput& frame);
   void push_avatar_row(const EndEffectors& avatar_x, const TargetFeature& target);
 

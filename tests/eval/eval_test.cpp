@@ -134,6 +134,31 @@ TEST(EvalChains, BatchedDiffusionChainsAreEachPairsOwnChain) {
   EXPECT_GT(moved, 1e-3);
 }
 
+// MPNet's outputs computed ahead (user_progressions()) give the same chains as MPNet run inside
+// the loop, chain by chain and in lockstep; wrong ones would not.
+TEST(EvalChains, KnownProgressionsGiveTheSameChains) {
+  const fs::path w = deixis::testing::reference_dir() / "weights/right";
+  const nn::Mpnet mpnet = nn::Mpnet::load(w / "MPNet(MoE)(AC)80.safetensors");
+  const nn::Ugnet moe = nn::Ugnet::load(w / "UGNet(MoE)(AC)120.safetensors");
+  const nn::Ugnet diffusion = nn::Ugnet::load(w / "UGNet(Diffusion)(AC)120.safetensors");
+  const RandomPairs r = random_pairs();
+  std::vector<std::vector<nn::Progression>> known;
+  for (const AlignedPair& pair : r.pairs) {
+    known.push_back(user_progressions(mpnet, pair));
+    ASSERT_EQ(known.back().size(), pair.frames.size() - 1);
+  }
+  for (const nn::Ugnet* ugnet : {&moe, &diffusion}) {  // one by one; in lockstep
+    const Generator g{&mpnet, ugnet};
+    const std::vector<std::span<const nn::Progression>> spans(known.begin(), known.end());
+    EXPECT_EQ(run_chains(g, r.pairs, 1.05f, r.seeds, spans), run_chains(g, r.pairs, 1.05f, r.seeds))
+        << (ugnet == &moe ? "MoE" : "diffusion");
+  }
+  // Another pair's progressions change the chain.
+  const Generator g{&mpnet, &moe};
+  EXPECT_NE(run_chain(g, r.pairs[0], 1.05f, r.seeds[0], known[1]),
+            run_chain(g, r.pairs[0], 1.05f, r.seeds[0]));
+}
+
 // The Transformer UGNet's chains run in lockstep too (its products batched over the chains'
 // windows of a frame); each is the pair's own chain.
 TEST(EvalChains, BatchedTransformerChainsAreEachPairsOwnChain) {
