@@ -183,11 +183,7 @@ std::vector<nn::Progression> user_progressions(const nn::Mpnet& mpnet, const Ali
     rows.insert(rows.end(), pair.frames[k].user_features.begin(),
                 pair.frames[k].user_features.end());
   }
-  std::vector<nn::Progression> out;
-  for (const capture::Labels& p : capture::predict_progressions(mpnet, rows)) {
-    out.push_back({p[0], p[1], p[2]});
-  }
-  return out;
+  return capture::predict_progressions(mpnet, rows);  // Labels are progressions
 }
 
 std::vector<std::vector<EndEffectors>> run_chains(
@@ -386,6 +382,7 @@ std::vector<double> run_fmd(const Generator& g, const nn::MotionEncoder& encoder
   // A trial draws every sequence's partner at random, so over ten trials pairs recur (≈ 22 % of
   // the chains of a full test subject, most in the categories of 8 sequences), and the
   // Transformer UGNet's chains are most of the evaluation's time (docs/eval.md).
+  const bool reuse_all = reuse == FmdReuse::kOn;
   const bool noise_free = g.copy_paste() || !g.ugnet->needs_noise();
   using Codes = std::vector<std::vector<double>>;
   std::map<std::size_t, Codes> real_of;                                 // by user sequence
@@ -393,7 +390,7 @@ std::vector<double> run_fmd(const Generator& g, const nn::MotionEncoder& encoder
   std::map<std::size_t, std::vector<nn::Progression>> progressions_of;  // by user sequence
   std::vector<double> trials;
   for (int trial = 0; trial < sampling.fmd_trials; ++trial) {
-    if (reuse == FmdReuse::kOff) {
+    if (!reuse_all) {
       real_of.clear();
       generated_of.clear();
     }
@@ -423,13 +420,15 @@ std::vector<double> run_fmd(const Generator& g, const nn::MotionEncoder& encoder
       }
       // MPNet's outputs along a user's rows, whatever the partner.
       std::vector<std::span<const nn::Progression>> progressions;
-      for (std::size_t p = 0; p < pairs.size() && reuse == FmdReuse::kOn && !g.copy_paste(); ++p) {
-        const std::size_t user = keys[chained_key[p]].first;
-        auto at = progressions_of.find(user);
-        if (at == progressions_of.end()) {
-          at = progressions_of.emplace(user, user_progressions(*g.mpnet, pairs[p])).first;
+      if (reuse_all && !g.copy_paste()) {
+        for (std::size_t p = 0; p < pairs.size(); ++p) {
+          const std::size_t user = keys[chained_key[p]].first;
+          auto at = progressions_of.find(user);
+          if (at == progressions_of.end()) {
+            at = progressions_of.emplace(user, user_progressions(*g.mpnet, pairs[p])).first;
+          }
+          progressions.emplace_back(at->second);
         }
-        progressions.emplace_back(at->second);
       }
       const std::vector<std::vector<EndEffectors>> chained =
           run_chains(g, pairs, scale_of(set), seeds, progressions);
@@ -449,8 +448,9 @@ std::vector<double> run_fmd(const Generator& g, const nn::MotionEncoder& encoder
       for (std::size_t k = 0; k < keys.size(); ++k) {
         const Codes& r = real_of.at(keys[k].first);
         real.insert(real.end(), r.begin(), r.end());
+        // Only a noise-free generator's pairs are kept, and a kept pair was not chained again.
         const auto known = generated_of.find(keys[k]);
-        const Codes& codes = known != generated_of.end() && noise_free ? known->second : fresh[k];
+        const Codes& codes = known != generated_of.end() ? known->second : fresh[k];
         generated.insert(generated.end(), codes.begin(), codes.end());
         if (noise_free && known == generated_of.end()) {
           generated_of.emplace(keys[k], std::move(fresh[k]));

@@ -100,9 +100,8 @@ DrResult run_dr(const nn::Ugnet* ugnet, const TestSet& set, const Sampling& samp
 // Whether run_fmd() reuses what does not change from one trial to the next: the codes of a
 // user's own motion (the real side: its recorded rows, whatever the partner) and MPNet's outputs
 // along them, and for a generator without noise the codes of a pair drawn again (its chain is the
-// same). The figures are the same
-// either way (up to float rounding for the batched UGNets, whose batches differ); off only to test
-// that.
+// same). The figures are the same either way (up to float rounding for the batched Transformer,
+// whose batches differ); off only to test that.
 enum class FmdReuse { kOn, kOff };
 
 // One FMD per trial (each trial pairs every sequence with a random one of its category).
