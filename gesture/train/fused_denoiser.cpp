@@ -1,11 +1,11 @@
 #include "gesture/train/fused_denoiser.h"
 
+#include "gesture/train/group_norm.h"
 #include "gesture/train/tensor_maps.h"
 
 #include <torch/autograd.h>
 
 #include <Eigen/Core>
-#include <cmath>
 
 namespace deixis::train {
 
@@ -24,7 +24,6 @@ struct Dims {
   // The columns every block and fco read after h: noisy ++ condition ++ time.
   Eigen::Index rest() const { return pose + condition + time; }
   Eigen::Index wide() const { return hidden + rest(); }
-  Eigen::Index group_size() const { return hidden / groups; }
 };
 
 std::size_t block_input(Eigen::Index block, BlockInput which) {
@@ -44,45 +43,6 @@ Dims dims_of(at::TensorList in, std::int64_t groups) {
   s.blocks = static_cast<Eigen::Index>((in.size() - kFirstBlock - 2) / kPerBlock);
   s.groups = groups;
   return s;
-}
-
-// GroupNorm then its affine map on h [batch, hidden]: x̂ and 1/σ per (row, group) are kept for
-// the backward pass, y = γ ⊙ x̂ + β is what SiLU reads.
-void group_norm(const RowMatrix& h, const ConstVectorMap& gamma, const ConstVectorMap& beta,
-                const Dims& s, MatrixMap x_hat, float* rstd, MatrixMap y) {
-  const Eigen::Index size = s.group_size();
-  for (Eigen::Index r = 0; r < s.batch; ++r) {
-    for (Eigen::Index g = 0; g < s.groups; ++g) {
-      const auto x = h.row(r).segment(g * size, size);
-      const float mean = x.mean();
-      const float variance = (x.array() - mean).square().mean();
-      const float inverse = 1.0f / std::sqrt(variance + kGroupNormEps);
-      rstd[r * s.groups + g] = inverse;
-      x_hat.row(r).segment(g * size, size).array() = (x.array() - mean) * inverse;
-    }
-  }
-  y.array() = (x_hat.array().rowwise() * gamma.array()).rowwise() + beta.array();
-}
-
-// GroupNorm's backward from d_y (the gradient at γ ⊙ x̂ + β): writes d_gamma, d_beta and the
-// gradient at the norm's input, d_x.
-void group_norm_backward(const RowMatrix& d_y, const ConstMatrixMap& x_hat, const float* rstd,
-                         const ConstVectorMap& gamma, const Dims& s, VectorMap d_gamma,
-                         VectorMap d_beta, RowMatrix& d_x) {
-  d_gamma = (d_y.array() * x_hat.array()).colwise().sum().matrix();
-  d_beta = d_y.colwise().sum();
-  const RowMatrix d_x_hat = d_y.array().rowwise() * gamma.array();
-  const Eigen::Index size = s.group_size();
-  for (Eigen::Index r = 0; r < s.batch; ++r) {
-    for (Eigen::Index g = 0; g < s.groups; ++g) {
-      const auto dxh = d_x_hat.row(r).segment(g * size, size).array();
-      const auto xh = x_hat.row(r).segment(g * size, size).array();
-      const float mean_d = dxh.mean();
-      const float mean_dx = (dxh * xh).mean();
-      d_x.row(r).segment(g * size, size).array() =
-          rstd[r * s.groups + g] * (dxh - mean_d - xh * mean_dx);
-    }
-  }
 }
 
 struct DenoiserFunction : public torch::autograd::Function<DenoiserFunction> {
@@ -115,9 +75,9 @@ struct DenoiserFunction : public torch::autograd::Function<DenoiserFunction> {
     h.rowwise() += vec(in[kFinBias]);
     for (Eigen::Index k = 0; k < s.blocks; ++k) {
       const Eigen::Index at = k * b * hid;
-      group_norm(h, vec(in[block_input(k, kNormWeight)]), vec(in[block_input(k, kNormBias)]), s,
-                 map_mut(x_hat, b, hid, at), rstd.data_ptr<float>() + k * b * s.groups,
-                 map_mut(normed, b, hid, at));
+      group_norm(h, s.groups, kGroupNormEps, vec(in[block_input(k, kNormWeight)]),
+                 vec(in[block_input(k, kNormBias)]), map_mut(x_hat, b, hid, at),
+                 rstd.data_ptr<float>() + k * b * s.groups, map_mut(normed, b, hid, at));
       MatrixMap layer_input = map_mut(layer_inputs, b, wide, k * b * wide);
       const auto y = map(normed, b, hid, at).array();
       layer_input.leftCols(hid).array() = y / (1.0f + (-y).exp());  // SiLU
@@ -187,8 +147,8 @@ struct DenoiserFunction : public torch::autograd::Function<DenoiserFunction> {
       const RowArray sigma = 1.0f / (1.0f + (-y).exp());
       d_y.array() *= sigma * (1.0f + y * (1.0f - sigma));
       group_norm_backward(d_y, map(buffers[kXHat], b, hid, at),
-                          buffers[kRstd].data_ptr<float>() + k * b * s.groups,
-                          vec(in[block_input(k, kNormWeight)]), s,
+                          buffers[kRstd].data_ptr<float>() + k * b * s.groups, s.groups,
+                          vec(in[block_input(k, kNormWeight)]),
                           vec_mut(grads[gradient_like(block_input(k, kNormWeight))]),
                           vec_mut(grads[gradient_like(block_input(k, kNormBias))]), d_h);
     }

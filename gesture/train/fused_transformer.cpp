@@ -1,5 +1,6 @@
 #include "gesture/train/fused_transformer.h"
 
+#include "gesture/train/group_norm.h"
 #include "gesture/train/tensor_maps.h"
 
 #include <ATen/CPUGeneratorImpl.h>
@@ -93,39 +94,6 @@ struct Masks {
 void apply_mask(Eigen::Ref<RowMatrix> m, const float* mask) {
   if (mask != nullptr) {
     m.array() *= ConstMatrixMap(mask, m.rows(), m.cols()).array();
-  }
-}
-
-// ---- layer norm ----
-
-// y = γ ⊙ x̂ + β, x̂ = (x − mean) / √(var + eps) per row; keeps x̂ and 1/√(var + eps).
-void layer_norm(const Eigen::Ref<const RowMatrix>& x, const ConstVectorMap& gamma,
-                const ConstVectorMap& beta, Eigen::Ref<RowMatrix> x_hat, float* rstd,
-                Eigen::Ref<RowMatrix> y) {
-  const auto n = static_cast<float>(x.cols());
-  for (Eigen::Index r = 0; r < x.rows(); ++r) {
-    const float mean = x.row(r).sum() / n;
-    x_hat.row(r) = x.row(r).array() - mean;
-    const float var = x_hat.row(r).squaredNorm() / n;
-    rstd[r] = 1.0f / std::sqrt(var + kLayerNormEps);
-    x_hat.row(r) *= rstd[r];
-  }
-  y = (x_hat.array().rowwise() * gamma.array()).rowwise() + beta.array();
-}
-
-// Backward of layer_norm: writes ∂L/∂γ, ∂L/∂β, and ∂L/∂x into dx.
-// ∂L/∂x = rstd · (g − mean(g) − x̂ · mean(g ⊙ x̂)) with g = dy ⊙ γ.
-void layer_norm_backward(const Eigen::Ref<const RowMatrix>& dy, const ConstMatrixMap& x_hat,
-                         const float* rstd, const ConstVectorMap& gamma, VectorMap d_gamma,
-                         VectorMap d_beta, Eigen::Ref<RowMatrix> dx) {
-  d_gamma = (dy.array() * x_hat.array()).colwise().sum();
-  d_beta = dy.colwise().sum();
-  const auto n = static_cast<float>(dy.cols());
-  dx = (dy.array().rowwise() * gamma.array()).matrix();
-  for (Eigen::Index r = 0; r < dy.rows(); ++r) {
-    const float mean_g = dx.row(r).sum() / n;
-    const float mean_gx = dx.row(r).dot(x_hat.row(r)) / n;
-    dx.row(r) = rstd[r] * (dx.row(r).array() - mean_g - x_hat.row(r).array() * mean_gx);
   }
 }
 
@@ -371,8 +339,8 @@ struct EncoderLayerFunction : public torch::autograd::Function<EncoderLayerFunct
     torch::Tensor rstd1 = torch::empty({nq}, f32);
     torch::Tensor norm1 = torch::empty({nq, d}, f32);
     MatrixMap x_hat1_map = map_mut(x_hat1, nq, d), norm1_map = map_mut(norm1, nq, d);
-    layer_norm(residual, vec(gamma1.contiguous()), vec(beta1.contiguous()), x_hat1_map,
-               rstd1.data_ptr<float>(), norm1_map);
+    group_norm(residual, 1, kLayerNormEps, vec(gamma1.contiguous()), vec(beta1.contiguous()),
+               x_hat1_map, rstd1.data_ptr<float>(), norm1_map);
 
     // x = norm2(x + dropout(linear2(dropout(relu(linear1(x)))))).
     torch::Tensor hidden = torch::empty({nq, s.ff}, f32);
@@ -390,8 +358,8 @@ struct EncoderLayerFunction : public torch::autograd::Function<EncoderLayerFunct
     torch::Tensor out = options.last_only ? torch::empty({s.batch, d}, f32)
                                           : torch::empty({s.queries(), s.batch, d}, f32);
     MatrixMap x_hat2_map = map_mut(x_hat2, nq, d), out_map = map_mut(out, nq, d);
-    layer_norm(residual, vec(gamma2.contiguous()), vec(beta2.contiguous()), x_hat2_map,
-               rstd2.data_ptr<float>(), out_map);
+    group_norm(residual, 1, kLayerNormEps, vec(gamma2.contiguous()), vec(beta2.contiguous()),
+               x_hat2_map, rstd2.data_ptr<float>(), out_map);
 
     ctx->save_for_backward({x, in_w, out_w, w1, w2, gamma1.contiguous(), gamma2.contiguous(), qkv,
                             probabilities, attention, norm1, x_hat1, rstd1, hidden, x_hat2, rstd2,
@@ -414,7 +382,7 @@ struct EncoderLayerFunction : public torch::autograd::Function<EncoderLayerFunct
 
     torch::Tensor d_gamma2 = torch::empty({d}, x.options()), d_beta2 = torch::empty_like(d_gamma2);
     RowMatrix d_residual(nq, d);
-    layer_norm_backward(map(g, nq, d), map(v[kXHat2], nq, d), v[kRstd2].data_ptr<float>(),
+    group_norm_backward(map(g, nq, d), map(v[kXHat2], nq, d), v[kRstd2].data_ptr<float>(), 1,
                         vec(v[kGamma2]), vec_mut(d_gamma2), vec_mut(d_beta2), d_residual);
 
     // Feed-forward block: residual₂ = norm1 + mask₄ ⊙ (hidden·W₂ᵀ + b₂), hidden = mask₃ ⊙ relu(·).
@@ -435,7 +403,7 @@ struct EncoderLayerFunction : public torch::autograd::Function<EncoderLayerFunct
     d_norm1.noalias() += d_hidden * map(v[kW1], ff, d);
 
     torch::Tensor d_gamma1 = torch::empty({d}, x.options()), d_beta1 = torch::empty_like(d_gamma1);
-    layer_norm_backward(d_norm1, map(v[kXHat1], nq, d), v[kRstd1].data_ptr<float>(),
+    group_norm_backward(d_norm1, map(v[kXHat1], nq, d), v[kRstd1].data_ptr<float>(), 1,
                         vec(v[kGamma1]), vec_mut(d_gamma1), vec_mut(d_beta1), d_residual);
 
     // Attention block: residual₁ = x + mask₂ ⊙ (attention·W_outᵀ + b_out).

@@ -2,17 +2,11 @@
 // Eigen views of contiguous float32 torch tensors, for the fused training kernels (fused_*.cpp):
 // their products run on the tensors' own memory, row-major as torch lays them out.
 
+#include "gesture/train/row_matrix.h"
+
 #include <torch/types.h>
 
-#include <Eigen/Core>
-
 namespace deixis::train {
-
-using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-using MatrixMap = Eigen::Map<RowMatrix>;
-using ConstMatrixMap = Eigen::Map<const RowMatrix>;
-using VectorMap = Eigen::Map<Eigen::RowVectorXf>;
-using ConstVectorMap = Eigen::Map<const Eigen::RowVectorXf>;
 
 // t's memory from `offset` floats on as a rows × cols row-major matrix; t must be contiguous.
 inline ConstMatrixMap map(const torch::Tensor& t, Eigen::Index rows, Eigen::Index cols,
