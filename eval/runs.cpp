@@ -41,6 +41,14 @@ std::span<const float> draws(const nn::Ugnet& ugnet, std::mt19937_64& rng,
   return buffer;
 }
 
+// The loop's step at the pair's frame k, MPNet's output taken from `known` when it is given
+// (user_progressions()).
+TranslationStep begin_step(TranslationLoop& loop, const AlignedPair& pair, std::size_t k,
+                           std::span<const nn::Progression> known) {
+  return known.empty() ? loop.begin_step(pair.frames[k])
+                       : loop.begin_step(pair.frames[k], known[k]);
+}
+
 EndEffectors to_x(std::span<const float, kEndEffectorSize> row) {
   EndEffectors x{};
   std::copy(row.begin(), row.end(), x.begin());
@@ -166,8 +174,7 @@ std::vector<EndEffectors> run_chain(const Generator& g, const AlignedPair& pair,
   loop.reset(pair.frames.front(), pair.avatar_initial, draws(*g.ugnet, rng, buffer));
   out.push_back(loop.prediction());
   for (std::size_t k = 0; k + 1 < pair.frames.size(); ++k) {
-    TranslationStep step = progressions.empty() ? loop.begin_step(pair.frames[k])
-                                                : loop.begin_step(pair.frames[k], progressions[k]);
+    TranslationStep step = begin_step(loop, pair, k, progressions);
     const std::span<const float> noise = draws(*g.ugnet, rng, buffer);
     loop.end_step(g.ugnet->run(loop.ugnet_window(), noise), step);
     out.push_back(step.prediction);
@@ -235,8 +242,7 @@ std::vector<std::vector<EndEffectors>> run_chains(
     predictions.resize(active.size() * nn::kPoseSize);
     for (std::size_t a = 0; a < active.size(); ++a) {
       const std::size_t i = active[a];
-      steps[a] = known(i).empty() ? loops[i].begin_step(pairs[i].frames[k])
-                                  : loops[i].begin_step(pairs[i].frames[k], known(i)[k]);
+      steps[a] = begin_step(loops[i], pairs[i], k, known(i));
       std::ranges::copy(loops[i].ugnet_window(), windows.begin() + a * nn::kUgnetWindowSize);
       std::ranges::copy(draws(*g.ugnet, rngs[i], buffer),
                         noise.begin() + a * nn::kDiffusionNoiseSize);

@@ -10,8 +10,9 @@ void group_norm(const Eigen::Ref<const RowMatrix>& x, Eigen::Index groups, float
   const Eigen::Index size = x.cols() / groups;
   for (Eigen::Index r = 0; r < x.rows(); ++r) {
     for (Eigen::Index g = 0; g < groups; ++g) {
+      const auto in = x.row(r).segment(g * size, size);
       auto centred = x_hat.row(r).segment(g * size, size);
-      centred = x.row(r).segment(g * size, size).array() - x.row(r).segment(g * size, size).mean();
+      centred = in.array() - in.mean();
       const float inverse =
           1.0f / std::sqrt(centred.squaredNorm() / static_cast<float>(size) + eps);
       rstd[r * groups + g] = inverse;
