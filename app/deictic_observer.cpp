@@ -57,11 +57,14 @@ void DeicticObserver::observe(const TrackingFrame& frame, std::uint32_t sequence
                               const TargetMap& room, const TargetMap* remote_room) {
   const Hand hand = copy.user().deictic_hand;
   const Vec3& tip = frame.index_tip[index(hand)];
-  const float dt = static_cast<float>(time - previous_time_);
-  const float speed = has_previous_ && dt > 0.0f ? (tip - previous_tip_).norm() / dt : 0.0f;
+  // Speed on the sender's clock: frames that arrive late play in a burst at one local time, which
+  // would read as a hand standing still.
+  const float dt = static_cast<float>(frame.time - previous_sender_time_);
+  const bool has_speed = has_previous_ && dt > 0.0f;
+  const float speed = has_speed ? (tip - previous_tip_).norm() / dt : 0.0f;
   has_previous_ = true;
   previous_tip_ = tip;
-  previous_time_ = time;
+  previous_sender_time_ = frame.time;
 
   if (frame.hand_target != target_) {
     end_hold();
@@ -70,6 +73,9 @@ void DeicticObserver::observe(const TrackingFrame& frame, std::uint32_t sequence
   const TargetObject* object = room.find(target_);
   if (target_ <= kPartnerTarget || object == nullptr) {
     return;  // the partner is looked at, not pointed at; an object this room lacks is skipped
+  }
+  if (!has_speed) {
+    return;  // the first frame of a stream, or one not later than the last: no speed to judge
   }
   if (speed > kMovingSpeed) {
     if (phase_ == Phase::kHolding) {

@@ -5,13 +5,14 @@
 //
 // The receiving site has only what arrives over the network (no labels, no script), so it finds
 // completion states as an observer would: while the person's hand target is an object, the
-// fingertip moves (faster than 0.3 m/s), settles (slower than 0.08 m/s) away from the upright
-// posture (the wrist 0.25 m or more from its rest position) and holds; the last frame of the hold
-// (before the hand moves off or the target changes) is the completion state, as in
-// tests/presence/end_to_end_test.cpp. A hold with the fingertip within 5 cm of the object's surface
-// in the person's own room is a touch, any other a point. Errors, in the avatar's root frame (paper
-// §V.A): pointing, the horizontal and vertical angles between the eye-midpoint → fingertip ray and
-// the ray to the object's centre; touching, the fingertip's distance from the object's surface.
+// fingertip moves (faster than 0.3 m/s, on the sender's clock), settles (slower than 0.08 m/s) away
+// from the upright posture (the wrist 0.25 m or more from its rest position) and holds; the last
+// frame of the hold (before the hand moves off or the target changes) is the completion state, as
+// in tests/presence/end_to_end_test.cpp. A hold with the fingertip within 5 cm of the object's
+// surface in the person's own room is a touch, any other a point. Errors, in the avatar's root
+// frame (paper §V.A): pointing, the horizontal and vertical angles between the eye-midpoint →
+// fingertip ray and the ray to the object's centre; touching, the fingertip's distance from the
+// object's surface.
 //
 // observe() runs once per played frame and allocates nothing: samples go into storage reserved
 // at construction (the rest are counted and dropped).
@@ -78,7 +79,7 @@ class DeicticObserver {
   TargetId target_ = kNoTarget;
   bool has_previous_ = false;
   Vec3 previous_tip_ = Vec3::Zero();
-  double previous_time_ = 0.0;
+  double previous_sender_time_ = 0.0;  // s, the previous frame's TrackingFrame::time
   DeicticSample candidate_;
 };
 
