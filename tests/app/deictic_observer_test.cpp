@@ -42,6 +42,20 @@ AvatarChain pointing_at(const Scene& s) {
   return {eyes, eyes + 0.6f * (s.room.objects[0].position - eyes).normalized(), Pose()};
 }
 
+// A receiving site's observer watching the scene's person, the avatar pointing at the cup.
+struct Watch {
+  Scene scene;
+  AvatarChain chain = pointing_at(scene);
+  DeicticObserver observer;
+
+  explicit Watch(std::size_t capacity) : observer(capacity) {}
+
+  void play(int k, float z, double local_time, TargetId target = kCup) {
+    observer.observe(frame_at(k, z, target), static_cast<std::uint32_t>(k), local_time, chain,
+                     scene.copy, scene.room, &scene.room);
+  }
+};
+
 // The fingertip's depth in frame `k` of a reach at 1 m/s (frames 0..12), a hold (13..21) and a
 // lowering at 1 m/s (22..27).
 float reach_hold_lower_z(int k) {
@@ -57,14 +71,11 @@ float reach_hold_lower_z(int k) {
 // from `local_time(k)`.
 template <typename LocalTime>
 std::vector<DeicticSample> observe_reach_hold_lower(LocalTime local_time) {
-  const Scene s;
-  DeicticObserver observer(8);
-  const AvatarChain chain = pointing_at(s);
+  Watch watch(8);
   for (int k = 0; k <= 28; ++k) {
-    observer.observe(frame_at(k, reach_hold_lower_z(k), k < 28 ? kCup : kNoTarget),
-                     static_cast<std::uint32_t>(k), local_time(k), chain, s.copy, s.room, &s.room);
+    watch.play(k, reach_hold_lower_z(k), local_time(k), k < 28 ? kCup : kNoTarget);
   }
-  const auto samples = observer.samples();
+  const auto samples = watch.observer.samples();
   return {samples.begin(), samples.end()};
 }
 
@@ -97,44 +108,27 @@ TEST(DeicticObserver, ALateGapInLocalPlayTimeIsNotAHold) {
 }
 
 TEST(DeicticObserver, AStoppedStreamEndsTheHoldInProgress) {
-  const Scene s;
-  DeicticObserver observer(8);
-  const AvatarChain chain = pointing_at(s);
-  float z = -0.2f;
-  int k = 0;
-  for (; k < 12; ++k, z -= static_cast<float>(kPeriod)) {
-    observer.observe(frame_at(k, z), static_cast<std::uint32_t>(k), k * kPeriod, chain, s.copy,
-                     s.room, &s.room);
+  Watch watch(8);
+  for (int k = 0; k < 18; ++k) {  // the reach and five frames of the hold
+    watch.play(k, reach_hold_lower_z(k), k * kPeriod);
   }
-  for (; k < 18; ++k) {
-    observer.observe(frame_at(k, z), static_cast<std::uint32_t>(k), k * kPeriod, chain, s.copy,
-                     s.room, &s.room);
-  }
-  EXPECT_TRUE(observer.samples().empty());  // still holding
-  observer.interrupt();
-  ASSERT_EQ(observer.samples().size(), 1u);
-  EXPECT_EQ(observer.samples()[0].sequence, 17u);
+  EXPECT_TRUE(watch.observer.samples().empty());  // still holding
+  watch.observer.interrupt();
+  ASSERT_EQ(watch.observer.samples().size(), 1u);
+  EXPECT_EQ(watch.observer.samples()[0].sequence, 17u);
 }
 
 TEST(DeicticObserver, SamplesBeyondItsCapacityAreCountedAndDropped) {
-  const Scene s;
-  DeicticObserver observer(1);
-  const AvatarChain chain = pointing_at(s);
+  Watch watch(1);
   int k = 0;
   for (int hold = 0; hold < 3; ++hold) {
-    float z = -0.2f;
-    for (int i = 0; i < 12; ++i, ++k, z -= static_cast<float>(kPeriod)) {
-      observer.observe(frame_at(k, z), static_cast<std::uint32_t>(k), k * kPeriod, chain, s.copy,
-                       s.room, &s.room);
+    for (int i = 0; i < 17; ++i, ++k) {  // the reach and four frames of the hold
+      watch.play(k, reach_hold_lower_z(i), k * kPeriod);
     }
-    for (int i = 0; i < 5; ++i, ++k) {
-      observer.observe(frame_at(k, z), static_cast<std::uint32_t>(k), k * kPeriod, chain, s.copy,
-                       s.room, &s.room);
-    }
-    observer.interrupt();
+    watch.observer.interrupt();
   }
-  EXPECT_EQ(observer.samples().size(), 1u);
-  EXPECT_EQ(observer.dropped(), 2u);
+  EXPECT_EQ(watch.observer.samples().size(), 1u);
+  EXPECT_EQ(watch.observer.dropped(), 2u);
 }
 
 }  // namespace
