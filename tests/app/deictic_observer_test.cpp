@@ -107,6 +107,21 @@ TEST(DeicticObserver, ALateGapInLocalPlayTimeIsNotAHold) {
   EXPECT_EQ(samples[0].sequence, 21u);
 }
 
+TEST(DeicticObserver, AFrameNoLaterThanTheLastOnTheSendersClockIsNotAHold) {
+  // Frame 6 of the reach comes twice (same sender time, same place): no speed, so no hold. A NaN
+  // sender time takes the same path.
+  Watch watch(8);
+  for (int k = 0; k <= 28; ++k) {
+    const TargetId target = k < 28 ? kCup : kNoTarget;
+    watch.play(k, reach_hold_lower_z(k), k * kPeriod, target);
+    if (k == 6) {
+      watch.play(k, reach_hold_lower_z(k), k * kPeriod, target);
+    }
+  }
+  ASSERT_EQ(watch.observer.samples().size(), 1u);
+  EXPECT_EQ(watch.observer.samples()[0].sequence, 21u);
+}
+
 TEST(DeicticObserver, AStoppedStreamEndsTheHoldInProgress) {
   Watch watch(8);
   for (int k = 0; k < 18; ++k) {  // the reach and five frames of the hold
