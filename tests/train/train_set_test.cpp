@@ -127,6 +127,17 @@ TEST(TrainSet, BadOptionsAndMissingDataExitTwoNamingThem) {
   EXPECT_EQ(bad_option.exit_code, 2);
   EXPECT_NE(bad_option.output.find("'--fast'"), std::string::npos) << bad_option.output;
 
+  // The UGNet Transformer's compressed epochs: 2 to its schedule's 120, refused before any run.
+  for (const char* epochs : {"1", "121", "twelve"}) {
+    const Outcome bad_epochs =
+        run(concat(train_set(), " --set comparison --ugnet-transformer-epochs ", epochs),
+            scratch.path());
+    EXPECT_EQ(bad_epochs.exit_code, 2) << epochs;
+    EXPECT_NE(bad_epochs.output.find(concat("from 2 to 120, not '", epochs, "'")),
+              std::string::npos)
+        << bad_epochs.output;
+  }
+
   const fs::path missing = scratch.path() / "no-data";
   const Outcome no_data =
       run(train_set() + " --trainer '" + DEIXIS_TRAIN_EXE + "' --data '" + missing.string() + "'",
@@ -198,6 +209,50 @@ TEST(TrainSet, ResumesTheRunNearestItsEndFirst) {
   ASSERT_EQ(started.size(), 4u) << read_all(order);
   EXPECT_EQ(started.front(), "ugnet-moe-left");
   EXPECT_EQ(started.back(), "ugnet-moe-right");
+}
+
+// The comparison set's UGNet Transformer runs its schedule compressed into the epochs asked for,
+// in a run directory of its own per count (a checkpoint cannot resume under another schedule);
+// 120 is the full schedule, uncompressed. A stand-in trainer records each run's command line.
+TEST(TrainSet, TheComparisonSetCompressesTheUgnetTransformerAsAsked) {
+  deixis::testing::ScratchDir scratch;
+  const fs::path data = scratch.path() / "data";
+  fs::create_directories(data);
+  std::ofstream(data / "train_right.safetensors") << "";
+  const fs::path calls = scratch.path() / "calls.txt";
+  const fs::path trainer = scratch.path() / "trainer.sh";
+  std::ofstream(trainer) << "#!/bin/sh\necho \"$@\" >> '" << calls.string() << "'\n";
+  fs::permissions(trainer, fs::perms::owner_all);
+  const auto transformer_calls = [&](const std::string& epochs) {
+    fs::remove(calls);
+    const Outcome outcome =
+        run(concat(train_set(), " --set comparison --data ", quoted(data.string()), " --out ",
+                   quoted((scratch.path() / "train").string()), " --trainer ",
+                   quoted(trainer.string()), " --ugnet-transformer-epochs ", epochs),
+            scratch.path());
+    EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
+    std::vector<std::string> found;
+    std::istringstream lines(read_all(calls));
+    for (std::string line; std::getline(lines, line);) {
+      if (line.starts_with("ugnet ") && line.find("--arch transformer") != std::string::npos) {
+        found.push_back(line);
+      }
+    }
+    return found;
+  };
+  const std::vector<std::string> compressed = transformer_calls("5");
+  ASSERT_EQ(compressed.size(), 2u);
+  for (const std::string& line : compressed) {
+    EXPECT_NE(line.find("/ugnet-transformer-c5-"), std::string::npos) << line;
+    EXPECT_NE(line.find("--compress-to 5"), std::string::npos) << line;
+  }
+  const std::vector<std::string> full = transformer_calls("120");
+  ASSERT_EQ(full.size(), 2u);
+  for (const std::string& line : full) {
+    EXPECT_NE(line.find("/ugnet-transformer-"), std::string::npos) << line;
+    EXPECT_EQ(line.find("/ugnet-transformer-c"), std::string::npos) << line;
+    EXPECT_EQ(line.find("--compress-to"), std::string::npos) << line;
+  }
 }
 
 TEST(TrainSet, AFailingRunFailsTheCommandAndShowsWhy) {
