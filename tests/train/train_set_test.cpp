@@ -74,6 +74,20 @@ fs::path make_tiny_capture(const fs::path& scratch) {
   return data;
 }
 
+// For tests of the script's own logic: an empty training set (enough for its checks) and a
+// stand-in trainer, a shell script running `body`.
+struct StandIn {
+  fs::path data, trainer;
+};
+StandIn make_stand_in(const fs::path& scratch, const std::string& body) {
+  const StandIn stand_in{scratch / "data", scratch / "trainer.sh"};
+  fs::create_directories(stand_in.data);
+  std::ofstream(stand_in.data / "train_right.safetensors") << "";
+  std::ofstream(stand_in.trainer) << "#!/bin/sh\n" << body;
+  fs::permissions(stand_in.trainer, fs::perms::owner_all);
+  return stand_in;
+}
+
 std::string train_command(const fs::path& data, const fs::path& out) {
   return train_set() + " --data '" + data.string() + "' --out '" + out.string() + "' --trainer '" +
          DEIXIS_TRAIN_EXE + "' -- --epochs 1 --max-batches 2";
@@ -173,20 +187,15 @@ TEST(TrainSet, BadOptionsAndMissingDataExitTwoNamingThem) {
 // here; the test above trains for real).
 TEST(TrainSet, ResumesTheRunNearestItsEndFirst) {
   deixis::testing::ScratchDir scratch;
-  const fs::path data = scratch.path() / "data";
   const fs::path out = scratch.path() / "train";
-  fs::create_directories(data);
-  std::ofstream(data / "train_right.safetensors") << "";
   const fs::path order = scratch.path() / "order.txt";
-  const fs::path trainer = scratch.path() / "trainer.sh";
-  std::ofstream(trainer) << "#!/bin/sh\n"
-                            "while [ $# -gt 0 ]; do\n"
-                            "  [ \"$1\" = --out ] && basename \"$2\" >> '"
-                         << order.string()
-                         << "'\n"
-                            "  shift\n"
-                            "done\n";
-  fs::permissions(trainer, fs::perms::owner_all);
+  const StandIn stand_in =
+      make_stand_in(scratch.path(), concat("while [ $# -gt 0 ]; do\n"
+                                           "  [ \"$1\" = --out ] && basename \"$2\" >> '",
+                                           order.string(),
+                                           "'\n"
+                                           "  shift\n"
+                                           "done\n"));
   // UGNet MoE left: 119 of 120 epochs done (0.01 h left of 1.7); right: the same log but no
   // checkpoint, so it starts over (1.7 h, last).
   for (const char* hand : {"left", "right"}) {
@@ -197,8 +206,8 @@ TEST(TrainSet, ResumesTheRunNearestItsEndFirst) {
   std::ofstream(out / "ugnet-moe-left/checkpoint.safetensors") << "";
 
   const Outcome outcome =
-      run(concat(train_set(), " --lanes 1 --data ", quoted(data.string()), " --out ",
-                 quoted(out.string()), " --trainer ", quoted(trainer.string())),
+      run(concat(train_set(), " --lanes 1 --data ", quoted(stand_in.data.string()), " --out ",
+                 quoted(out.string()), " --trainer ", quoted(stand_in.trainer.string())),
           scratch.path());
   ASSERT_EQ(outcome.exit_code, 0) << outcome.output;
   std::istringstream lines(read_all(order));
@@ -216,19 +225,15 @@ TEST(TrainSet, ResumesTheRunNearestItsEndFirst) {
 // 120 is the full schedule, uncompressed. A stand-in trainer records each run's command line.
 TEST(TrainSet, TheComparisonSetCompressesTheUgnetTransformerAsAsked) {
   deixis::testing::ScratchDir scratch;
-  const fs::path data = scratch.path() / "data";
-  fs::create_directories(data);
-  std::ofstream(data / "train_right.safetensors") << "";
   const fs::path calls = scratch.path() / "calls.txt";
-  const fs::path trainer = scratch.path() / "trainer.sh";
-  std::ofstream(trainer) << "#!/bin/sh\necho \"$@\" >> '" << calls.string() << "'\n";
-  fs::permissions(trainer, fs::perms::owner_all);
+  const StandIn stand_in =
+      make_stand_in(scratch.path(), concat("echo \"$@\" >> '", calls.string(), "'\n"));
   const auto transformer_calls = [&](const std::string& epochs) {
     fs::remove(calls);
     const Outcome outcome =
-        run(concat(train_set(), " --set comparison --data ", quoted(data.string()), " --out ",
-                   quoted((scratch.path() / "train").string()), " --trainer ",
-                   quoted(trainer.string()), " --ugnet-transformer-epochs ", epochs),
+        run(concat(train_set(), " --set comparison --data ", quoted(stand_in.data.string()),
+                   " --out ", quoted((scratch.path() / "train").string()), " --trainer ",
+                   quoted(stand_in.trainer.string()), " --ugnet-transformer-epochs ", epochs),
             scratch.path());
     EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
     std::vector<std::string> found;
