@@ -4,8 +4,6 @@
 #include <GLFW/glfw3.h>
 
 #include <algorithm>
-#include <fstream>
-#include <sstream>
 
 #include "gesture/io/json_reader.h"
 
@@ -18,6 +16,11 @@ using json = JsonReader::json;
 constexpr double kClickHold = 0.1;        // s a scripted click holds its button
 constexpr double kDragStep = 1.0 / 30.0;  // s between a scripted drag's moves (one tick)
 constexpr int kFormatVersion = 1;
+// Bounds on what a script may ask for (a script is a file, so untrusted): a drag expands into a
+// move per tick, so the entries alone do not bound the events.
+constexpr std::size_t kMaxEntries = 10'000;
+constexpr std::size_t kMaxEvents = 200'000;  // after expansion: ~110 min of dragging at 30 Hz
+constexpr std::size_t kMaxTextBytes = 256;   // a widget's label or one text event
 
 // The command keys a window reads, in the order of WindowInput::keys_down_.
 constexpr std::array<std::pair<int, char>, 4> kWindowKeys = {
@@ -90,8 +93,9 @@ InputEvent move_to_widget(double t, const JsonReader& r, const json& j, const st
   }
   InputEvent e = event(t, InputEvent::Kind::kMove);
   e.widget = r.string(j["widget"], path + ".widget");
-  if (e.widget.empty()) {
-    r.fail(path + ".widget", "expected a widget's label, e.g. \"Start\"");
+  if (e.widget.empty() || e.widget.size() > kMaxTextBytes) {
+    r.fail(path + ".widget", "expected a widget's label of 1 to " + std::to_string(kMaxTextBytes) +
+                                 " bytes, e.g. \"Start\"");
   }
   return e;
 }
@@ -99,8 +103,8 @@ InputEvent move_to_widget(double t, const JsonReader& r, const json& j, const st
 // What a text event types: printable ASCII, which ImGui's default font draws.
 std::string read_text(const JsonReader& r, const json& j, const std::string& path) {
   std::string text = r.string(r.member(j, path, "text"), path + ".text");
-  if (text.empty()) {
-    r.fail(path + ".text", "expected at least one character");
+  if (text.empty() || text.size() > kMaxTextBytes) {
+    r.fail(path + ".text", "expected 1 to " + std::to_string(kMaxTextBytes) + " characters");
   }
   for (const char c : text) {
     if (c < ' ' || c > '~') {
@@ -201,8 +205,8 @@ std::vector<InputEvent> parse_input_script(std::string_view json_text, std::stri
     r.fail("version", "this Deixis reads version " + std::to_string(kFormatVersion));
   }
   const json& events = r.member(j, "", "events");
-  if (!events.is_array()) {
-    r.fail("events", "expected an array");
+  if (!events.is_array() || events.size() > kMaxEntries) {
+    r.fail("events", "expected an array of at most " + std::to_string(kMaxEntries) + " entries");
   }
   std::vector<InputEvent> out;
   for (std::size_t i = 0; i < events.size(); ++i) {
@@ -211,6 +215,10 @@ std::vector<InputEvent> parse_input_script(std::string_view json_text, std::stri
       r.fail(path, "expected an object");
     }
     parse_event(r, events[i], path, out);
+    if (out.size() > kMaxEvents) {
+      r.fail(path, "the script expands into more than " + std::to_string(kMaxEvents) +
+                       " events (drags make one a tick)");
+    }
   }
   // Stable: events at the same time keep the file's order (a click's move before its press).
   std::stable_sort(out.begin(), out.end(),
@@ -219,13 +227,7 @@ std::vector<InputEvent> parse_input_script(std::string_view json_text, std::stri
 }
 
 std::vector<InputEvent> read_input_script(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) {
-    throw Error(path.string() + ": cannot open");
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_input_script(text.str(), path.string());
+  return parse_input_script(JsonReader::read_file(path), path.string());
 }
 
 FrameInput ScriptedInput::next(double t, const FindWidget& find) {

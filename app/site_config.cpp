@@ -1,8 +1,6 @@
 #include "app/site_config.h"
 
-#include <fstream>
 #include <numbers>
-#include <sstream>
 
 #include "gesture/io/json_reader.h"
 
@@ -117,7 +115,7 @@ SiteConfig parse_site_config(std::string_view json_text, std::string_view source
     r.fail("version", "this Deixis reads version " + std::to_string(SiteConfig::kFormatVersion));
   }
   SiteConfig config;
-  config.site = r.string(r.member(j, "", "site"), "site");
+  config.site = r.name(r.member(j, "", "site"), "site");  // the hello carries it
   config.target_map_path = base_dir / r.string(r.member(j, "", "target_map"), "target_map");
   try {
     config.target_map = read_target_map(config.target_map_path);
@@ -140,13 +138,7 @@ SiteConfig parse_site_config(std::string_view json_text, std::string_view source
 }
 
 SiteConfig read_site_config(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) {
-    throw Error(path.string() + ": cannot open");
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_site_config(text.str(), path.string(), path.parent_path());
+  return parse_site_config(JsonReader::read_file(path), path.string(), path.parent_path());
 }
 
 }  // namespace deixis::app

@@ -1,10 +1,8 @@
 #include "gesture/target_map.h"
 
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 
 #include "gesture/error.h"
 #include "gesture/io/json_reader.h"
@@ -32,10 +30,7 @@ TargetObject parse_object(const Reader& r, const json& j, const std::string& pat
   TargetObject object;
   object.id =
       static_cast<TargetId>(r.integer_in(r.member(j, path, "id"), path + ".id", 1, 1'000'000));
-  object.name = r.string(r.member(j, path, "name"), path + ".name");
-  if (object.name.empty() || object.name.size() > 64) {
-    r.fail(path + ".name", "expected 1 to 64 characters");
-  }
+  object.name = r.name(r.member(j, path, "name"), path + ".name");  // sent in the target map
   const std::string kind = r.string(r.member(j, path, "kind"), path + ".kind");
   bool known = false;
   for (const Kind& k : kKinds) {
@@ -84,13 +79,14 @@ TargetMap parse_target_map(std::string_view json_text, std::string_view source) 
   if (format != "deixis-target-map") {
     r.fail("format", "expected \"deixis-target-map\", found \"" + format + "\"");
   }
-  const json& version = r.member(j, "", "version");
-  if (!version.is_number_integer() || version.get<int>() != TargetMap::kFormatVersion) {
+  // Read as a range-checked integer first: a huge value must not wrap to the version number.
+  const std::int64_t version = r.integer_in(r.member(j, "", "version"), "version", 0, 1000);
+  if (version != TargetMap::kFormatVersion) {
     r.fail("version", "this Deixis reads version " + std::to_string(TargetMap::kFormatVersion) +
-                          ", found " + version.dump());
+                          ", found " + std::to_string(version));
   }
   TargetMap map;
-  map.site = r.string(r.member(j, "", "site"), "site");
+  map.site = r.name(r.member(j, "", "site"), "site", 0);  // the wire allows an empty site here
   const json& objects = r.member(j, "", "objects");
   if (!objects.is_array()) {
     r.fail("objects", "expected an array");
@@ -111,13 +107,7 @@ TargetMap parse_target_map(std::string_view json_text, std::string_view source) 
 }
 
 TargetMap read_target_map(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) {
-    throw Error(path.string() + ": cannot open");
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_target_map(text.str(), path.string());
+  return parse_target_map(JsonReader::read_file(path), path.string());
 }
 
 std::string to_json(const TargetMap& map) {

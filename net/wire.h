@@ -11,6 +11,8 @@
 #include <span>
 #include <string_view>
 
+#include "gesture/io/text_rules.h"
+
 namespace deixis::net {
 
 class WireReader {
@@ -147,11 +149,8 @@ class WireWriter {
   bool failed_ = false;
 };
 
-// Names and site labels on the wire: valid UTF-8 (shortest form, no surrogates) without ASCII
-// control characters, so that a log line or a rendered label can show them as they are.
-bool is_wire_text(std::span<const std::byte> bytes);
-inline bool is_wire_text(std::string_view s) {
-  return is_wire_text(std::as_bytes(std::span(s.data(), s.size())));
-}
+// Names and site labels on the wire: gesture/io/text_rules.h, shared with the file readers so
+// that a file that loads never holds a name the wire refuses.
+using deixis::is_wire_text;
 
 }  // namespace deixis::net

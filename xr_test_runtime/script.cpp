@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 
 #include <nlohmann/json.hpp>
+
+#include "gesture/io/json_guard.h"
 
 namespace deixis::xrt {
 
@@ -114,13 +115,19 @@ Script default_script() {
 }
 
 std::optional<Script> load_script(const std::string& path, std::string& error) {
-  std::ifstream in(path);
-  if (!in) {
-    error = path + ": cannot open the script";
+  std::string text;
+  try {
+    text = read_bounded_file(path);
+  } catch (const JsonGuardError& e) {
+    error = path + ": " + e.what() + " (the script)";
     return std::nullopt;
   }
   try {
-    const json j = json::parse(in);
+    // Bounded depth and no duplicate keys, as every JSON file Deixis reads.
+    const json j = parse_guarded_json(text);
+    if (!j.is_object()) {
+      throw ParseError{"expected a JSON object"};
+    }
     Script s;
     if (j.contains("display_hz")) {
       s.display_hz = number(j["display_hz"], "display_hz");
@@ -140,8 +147,9 @@ std::optional<Script> load_script(const std::string& path, std::string& error) {
     for (auto [key, field] :
          {std::pair{"frames", &s.frames}, std::pair{"lose_after_frames", &s.lose_after_frames}}) {
       if (j.contains(key)) {
-        if (!j[key].is_number_integer() || j[key].get<long>() < 0) {
-          throw ParseError{std::string(key) + ": expected a non-negative integer"};
+        // Unsigned first: a value above INT64_MAX would wrap to a negative long.
+        if (!j[key].is_number_unsigned() || j[key].get<std::uint64_t>() > (1ull << 40)) {
+          throw ParseError{std::string(key) + ": expected an integer from 0 to 2^40"};
         }
         *field = j[key].get<long>();
       }
@@ -190,6 +198,8 @@ std::optional<Script> load_script(const std::string& path, std::string& error) {
     return s;
   } catch (const ParseError& e) {
     error = path + ": " + e.what;
+  } catch (const JsonGuardError& e) {
+    error = path + ": " + e.what();
   } catch (const json::exception& e) {
     error = path + ": " + e.what();
   }

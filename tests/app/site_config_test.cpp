@@ -72,5 +72,38 @@ TEST(SiteConfig, BadFieldsAreNamed) {
   }
 }
 
+// Issue 22: a site configuration is a file from anywhere; each hostile class is a clear error.
+TEST(SiteConfig, HostileFilesAreRefusedNamingFileAndPlace) {
+  const fs::path base = testing::source_dir() / "assets";
+  const std::string deep = std::string(80, '{') + std::string(80, '}');
+  const std::pair<std::string, std::string> cases[] = {
+      {with("\"site\": \"T\"", "\"site\": \"T\", \"camera\": " + deep),
+       "sites/t.json: nested deeper than 64 levels"},
+      {with("\"yaw_degrees\": 0", "\"yaw_degrees\": 0, \"yaw_degrees\": 90"),
+       "sites/t.json: duplicate key 'yaw_degrees' in user"},
+      {with("\"target\": 1", "\"target\": 1, \"target\": 2"),
+       "sites/t.json: duplicate key 'target' in virtual_user.script[0]"},
+      // 2^64 − 1: as int64 it is −1; 2^63 + 1 wraps below zero.
+      {with("\"version\": 1", "\"version\": 18446744073709551615"),
+       "sites/t.json: version: expected an integer from 0 to 1000"},
+      {with("\"subject\": \"172\"", "\"subject\": \"172\", \"seed\": 9223372036854775809"),
+       "sites/t.json: virtual_user.seed: expected an integer from 0 to"},
+      {with("\"site\": \"T\"", "\"site\": \"T\\u001b[31m\""),
+       "sites/t.json: site: not valid UTF-8 text without control characters"},
+      {with("\"site\": \"T\"", "\"site\": \"" + std::string(65, 'T') + "\""),
+       "sites/t.json: site: expected 1 to 64 bytes, found 65"},
+      {with("\"site\": \"T\"", "\"site\": \"\""), "sites/t.json: site: expected 1 to 64 bytes"},
+      {with("\"site\": \"T\"", "\"site\": \"\xff\""), "sites/t.json: not valid JSON"},
+  };
+  for (const auto& [text, expected] : cases) {
+    try {
+      parse_site_config(text, "sites/t.json", base);
+      ADD_FAILURE() << "accepted: " << expected;
+    } catch (const deixis::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace deixis::app

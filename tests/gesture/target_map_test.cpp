@@ -76,6 +76,53 @@ TEST(TargetMap, BadFieldsAreNamedWithTheirPath) {
   EXPECT_THROW(read_target_map("/nonexistent/room.json"), Error);
 }
 
+// Issue 22: a target map is a file from anywhere; each hostile class is a clear error.
+TEST(TargetMap, HostileFilesAreRefusedNamingFileAndPlace) {
+  const std::string good =
+      R"({"format": "deixis-target-map", "version": 1, "site": "B", "objects": [
+    {"id": 1, "name": "A", "kind": "sphere", "position": [0, 1, -2], "size": [0.2, 0.2, 0.2]}]})";
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    text.replace(text.find(from), from.size(), to);
+    return text;
+  };
+  const std::string deep = std::string(100, '[') + std::string(100, ']');
+  const std::pair<std::string, std::string> cases[] = {
+      {with("\"site\": \"B\"", "\"site\": \"B\", \"x\": " + deep),
+       "rooms/b.json: nested deeper than 64 levels"},
+      {with("\"name\": \"A\"", "\"name\": \"A\", \"name\": \"Z\""),
+       "rooms/b.json: duplicate key 'name' in objects[0]"},
+      {with("\"site\": \"B\"", "\"site\": \"B\", \"site\": \"C\""),
+       "rooms/b.json: duplicate key 'site' in the top-level object"},
+      // 2^64 − 1: as int64 it is −1; 2^32 + 1 as int is 1, the version this Deixis reads.
+      {with("\"id\": 1", "\"id\": 18446744073709551615"),
+       "rooms/b.json: objects[0].id: expected an integer from 1 to 1000000"},
+      {with("\"version\": 1", "\"version\": 4294967297"),
+       "rooms/b.json: version: expected an integer from 0 to 1000"},
+      {with("\"name\": \"A\"", "\"name\": \"A\\u0007\""),
+       "rooms/b.json: objects[0].name: not valid UTF-8 text without control characters"},
+      {with("\"name\": \"A\"", "\"name\": \"" + std::string(65, 'x') + "\""),
+       "rooms/b.json: objects[0].name: expected 1 to 64 bytes, found 65"},
+      {with("\"name\": \"A\"", "\"name\": \"\xc3\""), "rooms/b.json: not valid JSON"},
+      {with("\"site\": \"B\"", "\"site\": \"B\\nB\""),
+       "rooms/b.json: site: not valid UTF-8 text without control characters"},
+      {with("\"site\": \"B\"", "\"site\": \"" + std::string(70, 's') + "\""),
+       "rooms/b.json: site: expected 0 to 64 bytes, found 70"},
+  };
+  for (const auto& [text, expected] : cases) {
+    try {
+      parse_target_map(text, "rooms/b.json");
+      ADD_FAILURE() << "accepted: " << expected;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+  // An empty site is allowed, as on the wire.
+  EXPECT_EQ(parse_target_map(with("\"site\": \"B\"", "\"site\": \"\""), "m").site, "");
+  // A device is not a file: read with a bound, never to the end.
+  EXPECT_THROW(read_target_map("/dev/zero"), Error);
+}
+
 TEST(TargetMap, ClosestSurfacePoint) {
   const TargetObject sphere{1, "S", TargetKind::kSphere, Vec3(0, 1, 0), Vec3(0.4f, 0.4f, 0.4f)};
   EXPECT_TRUE(closest_surface_point(sphere, Vec3(0, 1, 2)).isApprox(Vec3(0, 1, 0.2f), 1e-6f));
