@@ -8,13 +8,27 @@ namespace deixis::net {
 
 namespace {
 
-// Signed distance from `b` to `a` in sequence space (wraps at 2^32).
-std::int32_t distance(std::uint32_t a, std::uint32_t b) {
-  return static_cast<std::int32_t>(a - b);
+// Serial-number arithmetic (RFC 1982) on 32-bit sequence numbers, in unsigned types only: a
+// difference is taken modulo 2^32 and classified by comparisons, never negated or converted to a
+// signed type, so any pair of values is defined.
+constexpr std::uint32_t kHalfSpace = std::uint32_t{1} << 31;
+
+// `a` is `b` or comes after it: `a` is less than half the sequence space ahead. Exactly half the
+// space away counts as before.
+bool at_or_after(std::uint32_t a, std::uint32_t b) {
+  return static_cast<std::uint32_t>(a - b) < kHalfSpace;
 }
 
-constexpr std::int32_t kHalf = static_cast<std::int32_t>(JitterBuffer::kCapacity / 2);
-constexpr std::int32_t kFull = static_cast<std::int32_t>(JitterBuffer::kCapacity);
+// Frames a not-yet-playing stream accepts before its first frame; a playing stream accepts none
+// before the next frame due.
+constexpr std::uint32_t kSlackBefore = JitterBuffer::kCapacity / 2;
+// Not NaN, not infinite, not beyond ±kMaxTime.
+bool within_time_range(double t) {
+  return std::abs(t) <= JitterBuffer::kMaxTime;
+}
+
+// Results remembered as played (the bits of played_mask_).
+constexpr std::uint32_t kMaskBits = 64;
 
 }  // namespace
 
@@ -24,7 +38,9 @@ void JitterBuffer::FastestTransits::add(double transit) {
     std::sort(value.begin(), value.begin() + count);
     return;
   }
-  ++count;
+  if (count < kMaxCount) {
+    ++count;
+  }
   if (transit < value[2]) {
     value[2] = transit;
     std::sort(value.begin(), value.end());
@@ -62,7 +78,6 @@ void JitterBuffer::anchor(std::uint32_t sequence, double transit, double arrival
   anchored_ = true;
   playing_ = false;
   has_last_ = false;
-  played_mask_ = 0;
   anchor_ = sequence;
   streak_floor_ = sequence;
   window_start_ = arrival;
@@ -72,55 +87,81 @@ void JitterBuffer::anchor(std::uint32_t sequence, double transit, double arrival
   current_.add(transit);
 }
 
-void JitterBuffer::reset() {
+void JitterBuffer::forget() {
   for (Slot& s : slots_) {
     s.full = false;
   }
   anchored_ = false;
   playing_ = false;
   has_last_ = false;
+}
+
+void JitterBuffer::reset() {
+  forget();
+  has_floor_ = false;
   played_mask_ = 0;
+}
+
+bool JitterBuffer::below_floor(std::uint32_t sequence) const {
+  return has_floor_ && !at_or_after(sequence, floor_);
+}
+
+void JitterBuffer::drop_old(std::uint32_t sequence, double transit, double arrival) {
+  // 1 = the last result; 0 or ≥ 2^31 when the frame is not before floor_ (then not a duplicate).
+  const std::uint32_t age = floor_ - sequence;
+  if (has_floor_ && age >= 1 && age <= kMaskBits && ((played_mask_ >> (age - 1)) & 1u) != 0) {
+    ++stats_.duplicates;
+    return;
+  }
+  ++stats_.late;
+  if (playing_ && at_or_after(sequence, streak_floor_) && ++late_streak_ >= kLateStreak) {
+    // The schedule runs ahead of the frames: start the offset again from where they are.
+    ++stats_.offset_resets;
+    late_streak_ = 0;
+    streak_floor_ = next_;
+    window_start_ = arrival;
+    current_ = FastestTransits{};
+    previous_ = FastestTransits{};
+    current_.add(transit);
+  }
 }
 
 void JitterBuffer::push(std::uint32_t sequence, const TrackingFrame& frame, double arrival) {
   ++stats_.received;
-  const double transit = arrival - frame.time;
-  if (!std::isfinite(transit)) {
+  if (!within_time_range(arrival) || !within_time_range(frame.time)) {
     ++stats_.late;  // cannot be scheduled; the decoder never produces this
     return;
   }
+  const double transit = arrival - frame.time;
+  // At or before the last result: it came out already (as a frame or as missed tracking).
+  const bool old = below_floor(sequence);
   bool fresh = false;  // an anchor counts this frame's transit already
-  if (!anchored_) {
+  if (!anchored_ && !old) {
     anchor(sequence, transit, arrival);
     fresh = true;
   }
-  last_arrival_ = std::max(last_arrival_, arrival);  // even a late frame shows the stream lives
-
-  const std::int32_t d = distance(sequence, playing_ ? next_ : anchor_);
-  const std::int32_t lowest = playing_ ? 0 : -kHalf;
-  const std::int32_t limit = playing_ ? kFull : kHalf;
-  if (d < lowest) {
-    const std::int32_t age = -d;  // 1 = the frame just played (or missed)
-    if (playing_ && age <= 64 && ((played_mask_ >> (age - 1)) & 1u) != 0) {
-      ++stats_.duplicates;
-    } else {
-      ++stats_.late;
-      if (distance(sequence, streak_floor_) >= 0 && ++late_streak_ >= kLateStreak) {
-        // The schedule runs ahead of the frames: start the offset again from where they are.
-        ++stats_.offset_resets;
-        late_streak_ = 0;
-        streak_floor_ = next_;
-        window_start_ = arrival;
-        current_ = FastestTransits{};
-        previous_ = FastestTransits{};
-        current_.add(transit);
-      }
-    }
+  // How far the frame is behind / ahead of the next one due (or, before the stream plays, of its
+  // first frame), modulo 2^32; exactly one of them is below 2^31 unless both are 2^31.
+  const std::uint32_t reference = playing_ ? next_ : anchor_;
+  const std::uint32_t behind = reference - sequence;
+  const std::uint32_t ahead = sequence - reference;
+  if (anchored_ && !old && ahead >= kMaxSkip && ahead < kHalfSpace) {
+    ++stats_.far_ahead;  // not believed, and no sign that the stream lives
+    return;
+  }
+  if (anchored_) {
+    last_arrival_ = std::max(last_arrival_, arrival);  // even a late frame shows the stream lives
+  }
+  const std::uint32_t slack = playing_ ? 0 : kSlackBefore;
+  const std::uint32_t limit = playing_ ? kCapacity : kSlackBefore;
+  if (old || (behind > slack && behind <= kHalfSpace)) {
+    drop_old(sequence, transit, arrival);
     return;
   }
   // Far ahead (the sender skipped), or a transit far from the estimate (the sender's clock jumped
   // or wrapped): what is buffered no longer fits the schedule, so start a new one.
-  if (d >= limit || std::abs(transit - offset()) > config_.max_clock_jump) {
+  if ((ahead >= limit && ahead < kMaxSkip) ||
+      std::abs(transit - offset()) > config_.max_clock_jump) {
     ++stats_.restarts;
     anchor(sequence, transit, arrival);
     fresh = true;
@@ -149,7 +190,7 @@ bool JitterBuffer::start_playing(double now) {
     if (!s.full) {
       continue;
     }
-    if (!any || distance(s.sequence, lowest) < 0) {
+    if (!any || !at_or_after(s.sequence, lowest)) {
       lowest = s.sequence;
     }
     any = true;
@@ -179,10 +220,16 @@ double JitterBuffer::missed_sender_time() const {
 }
 
 Playout JitterBuffer::advance(Playout result, double sender_time) {
+  // Sequence numbers a restart jumped over since the last result came out as nothing: shift them
+  // out of the mask (a shift by the mask's width or more would be undefined).
+  const std::uint32_t skipped = has_floor_ ? next_ - floor_ : kMaskBits;
+  played_mask_ = skipped >= kMaskBits ? 0 : played_mask_ << skipped;
   played_mask_ = (played_mask_ << 1) | (result.kind == PlayoutKind::kFrame ? 1u : 0u);
   has_last_ = true;
   last_sender_time_ = sender_time;
   ++next_;
+  floor_ = next_;
+  has_floor_ = true;
   return result;
 }
 
@@ -190,9 +237,12 @@ Playout JitterBuffer::pop(double now) {
   if (!anchored_) {
     return {};
   }
+  if (!within_time_range(now)) {
+    return {PlayoutKind::kPending};
+  }
   if (now - last_arrival_ > config_.stop_after) {
     ++stats_.stops;
-    reset();
+    forget();
     return {};
   }
   if (!playing_ && !start_playing(now)) {

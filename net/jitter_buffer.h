@@ -15,6 +15,29 @@
 // dropped. When nothing has arrived for `stop_after`, the stream is reported stopped (kNoStream:
 // hide the avatar, never freeze it) until frames arrive again.
 //
+// Sequence numbers come from the network: every comparison is serial-number arithmetic (RFC 1982)
+// on unsigned 32-bit differences, so wrapping at 2^32 is normal and no value, however far off,
+// can overflow or shift out of range. Relative to the next frame due (or to the first frame of a
+// stream that has not started playing, which accepts kCapacity/2 frames before it):
+//   - 1 ≤ behind ≤ 2^31 (exactly half the space away counts as behind: RFC 1982 leaves it
+//     undefined, and dropping is the safe choice): an old frame, a duplicate if it came out as a
+//     frame among the last 64 results, otherwise late; dropped either way;
+//   - kCapacity ≤ ahead < kMaxSkip (kCapacity/2 before the stream plays): the sender skipped
+//     ahead, the schedule restarts from this frame (stats().restarts);
+//   - kMaxSkip ≤ ahead < 2^31: too far ahead to believe (the sender sends 30 frames a second and
+//     its connection is renewed, with new numbers, long before it could skip that far): dropped
+//     (stats().far_ahead). It does not keep the stream alive either, so a sender that really is
+//     there is followed after stop_after, when the stream has stopped and starts again from it.
+// Results only move forward: until reset(), nothing at or before the last result is accepted, not
+// even after a restart or a stop, so results are in serial order and no sequence number comes out
+// twice unless the results travel round the whole 2^32 space (which takes at least 2^16 restarts
+// or two stops). Times are never converted to integers. A frame whose sender time or arrival is
+// not finite or beyond ±kMaxTime is dropped as late, and pop() at such a time is kPending: with
+// every time within 2^32 s, a frame period is far above a double's resolution, so each result
+// moves the schedule on by about a period and a call loop of pop() always ends (a sender time of
+// 1e17 s would freeze the schedule and yield kMissed for ever). The wire carries sender times as
+// 32-bit milliseconds (under 2^22 s).
+//
 // Fixed capacity, no allocation after construction.
 
 #include <algorithm>
@@ -58,6 +81,7 @@ struct JitterStats {
   std::uint64_t duplicates = 0;     // arrived twice, dropped
   std::uint64_t stops = 0;          // streams reported stopped
   std::uint64_t restarts = 0;       // schedules restarted: a clock jump or a sequence far ahead
+  std::uint64_t far_ahead = 0;      // too far ahead to believe (kMaxSkip or more), dropped
   std::uint64_t offset_resets = 0;  // the offset started again after kLateStreak late frames
   double waited_sum = 0.0;          // over played frames (s)
   double waited_max = 0.0;
@@ -66,6 +90,10 @@ struct JitterStats {
 class JitterBuffer {
  public:
   static constexpr std::uint32_t kCapacity = 32;  // frames: about 1 s at 30 Hz
+  // Times (s) beyond ±kMaxTime are not scheduled: 2^32 s, 136 years.
+  static constexpr double kMaxTime = 4294967296.0;
+  // The farthest skip ahead that restarts the schedule: 36 min of frames at 30 Hz.
+  static constexpr std::uint32_t kMaxSkip = std::uint32_t{1} << 16;
   static constexpr int kLateStreak = 3;
   static constexpr int kRobustAfter = 10;  // frames in a window before it discounts two
 
@@ -75,7 +103,8 @@ class JitterBuffer {
   // The next result at time `now`. Call until it returns kPending or kNoStream: each frame
   // period normally yields one kFrame or kMissed.
   Playout pop(double now);
-  // Forget the stream (a new connection restarts its sequence numbers); statistics are kept.
+  // Forget the stream (a new connection restarts its sequence numbers) and the sequence numbers
+  // that came out; statistics are kept.
   void reset();
 
   bool streaming() const { return anchored_; }
@@ -85,6 +114,7 @@ class JitterBuffer {
  private:
   // The three smallest transits of a window, ascending.
   struct FastestTransits {
+    static constexpr int kMaxCount = 1 << 30;  // count saturates here (arrivals are untrusted)
     std::array<double, 3> value{};
     int count = 0;  // frames in the window (value holds min(count, 3) of them)
     void add(double transit);
@@ -109,6 +139,9 @@ class JitterBuffer {
   double play_time(const Slot& s) const;
   void update_offset(double transit, double arrival);
   void anchor(std::uint32_t sequence, double transit, double arrival);
+  void forget();  // the stream stopped: what is buffered goes, the results' floor stays
+  bool below_floor(std::uint32_t sequence) const;
+  void drop_old(std::uint32_t sequence, double transit, double arrival);
   bool start_playing(double now);
   Playout advance(Playout result, double sender_time);
   double missed_sender_time() const;  // the estimated sender time of the missing next_
@@ -125,7 +158,12 @@ class JitterBuffer {
   // The sender time of the last result (estimated for a missed frame): the next one is due a
   // frame period later, on the current offset, so a changed offset moves it too.
   double last_sender_time_ = 0.0;
-  std::uint64_t played_mask_ = 0;  // bit i: next_ − 1 − i came out as a frame
+  // The sequence number after the last result (frame or missed), once there was one since the
+  // last reset(): nothing before it is accepted again. While playing, floor_ == next_ once the
+  // stream has produced a result.
+  bool has_floor_ = false;
+  std::uint32_t floor_ = 0;
+  std::uint64_t played_mask_ = 0;  // bit i: floor_ − 1 − i came out as a frame
   double last_arrival_ = 0.0;
   double window_start_ = 0.0;
   FastestTransits current_;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "net/jitter_buffer.h"
@@ -321,6 +322,293 @@ TEST(JitterBuffer, ResetForgetsTheStreamButKeepsTheCounts) {
   EXPECT_EQ(buffer.pop(0.1).kind, PlayoutKind::kNoStream);
   EXPECT_EQ(buffer.stats().received, 2u);
   EXPECT_EQ(buffer.stats().duplicates, 1u);
+}
+
+// ---- Sequence numbers from the network, however far off (serial-number arithmetic) ----
+// Distances are taken from the next frame due. Exactly half the sequence space (2^31) counts as
+// behind: dropped as late. Under the ASan/UBSan build the old signed arithmetic failed at 2^31
+// (`age = -d` overflowed, then a shift by INT_MAX − 1).
+
+constexpr std::uint32_t kHalfSpace = 0x80000000u;
+
+// A stream on the injected clock: one frame sent per tick with 10 ms of transit, popped every tick.
+struct Stream {
+  JitterBuffer buffer;
+  std::vector<Result> out;
+  double now = 0.01;
+
+  // Sends `sequence`, stamped on the sender's clock as sent 10 ms ago (no clock jump).
+  void send(std::uint32_t sequence) {
+    buffer.push(sequence, frame_at_time(sequence, 100.0 + now - 0.01), now);
+  }
+  void tick(int n = 1) {
+    for (int i = 0; i < n; ++i) {
+      now += kP;
+      drain(buffer, now, out);
+    }
+  }
+  // Sends first, first + 1, … (n frames), ticking after each.
+  void run(std::uint32_t first, std::uint32_t n) {
+    for (std::uint32_t i = 0; i < n; ++i) {
+      send(first + i);
+      tick();
+    }
+  }
+  // The next frame due once something came out.
+  std::uint32_t next() const { return out.back().sequence + 1; }
+  std::size_t count(std::uint32_t sequence, PlayoutKind kind) const {
+    return static_cast<std::size_t>(std::count_if(out.begin(), out.end(), [&](const Result& r) {
+      return r.sequence == sequence && r.kind == kind;
+    }));
+  }
+};
+
+// What every run below must show: no sequence number came out twice, each result is after the one
+// before in serial order, and the counts match what came out.
+void expect_each_once_in_order(const Stream& stream) {
+  const std::vector<Result>& out = stream.out;
+  std::uint64_t frames = 0;
+  std::uint64_t missed = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    frames += out[i].kind == PlayoutKind::kFrame ? 1 : 0;
+    missed += out[i].kind == PlayoutKind::kMissed ? 1 : 0;
+    if (i > 0) {
+      const std::uint32_t step = out[i].sequence - out[i - 1].sequence;
+      EXPECT_TRUE(step >= 1 && step < kHalfSpace) << "result " << i << " is not after " << i - 1;
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      EXPECT_NE(out[i].sequence, out[j].sequence) << "results " << j << " and " << i;
+    }
+  }
+  EXPECT_EQ(stream.buffer.stats().played, frames);
+  EXPECT_EQ(stream.buffer.stats().missed, missed);
+}
+
+TEST(JitterBufferSequenceSpace, HalfTheSpaceAwayIsBehindAndDroppedAsLate) {
+  Stream stream;
+  stream.run(0, 10);
+  const std::uint32_t stray = stream.next() + kHalfSpace;
+  stream.send(stray);
+  EXPECT_EQ(stream.buffer.stats().late, 1u);
+  EXPECT_EQ(stream.buffer.stats().restarts, 0u);
+  stream.run(10, 10);
+  stream.tick(3);
+  expect_each_once_in_order(stream);
+  expect_only_missed_after(stream.out, 20);
+  for (std::uint32_t s = 0; s < 20; ++s) {
+    EXPECT_EQ(stream.out[s].sequence, s);
+    EXPECT_EQ(stream.out[s].kind, PlayoutKind::kFrame) << s;
+  }
+  EXPECT_EQ(stream.count(stray, PlayoutKind::kFrame), 0u);
+  EXPECT_EQ(stream.buffer.stats().played, 20u);
+  EXPECT_EQ(stream.buffer.stats().received, 21u);
+  EXPECT_EQ(stream.buffer.stats().duplicates, 0u);
+}
+
+TEST(JitterBufferSequenceSpace, HalfTheSpaceFromTheFirstFrameIsDroppedBeforePlaying) {
+  Stream stream;
+  stream.send(7);
+  stream.send(7 + kHalfSpace);  // before the stream plays (the anchor is the reference)
+  stream.send(7 - kHalfSpace);  // the same number
+  EXPECT_EQ(stream.buffer.stats().late, 2u);
+  EXPECT_EQ(stream.buffer.stats().restarts, 0u);
+  stream.tick(3);
+  ASSERT_FALSE(stream.out.empty());
+  EXPECT_EQ(stream.out[0].sequence, 7u);
+  EXPECT_EQ(stream.out[0].kind, PlayoutKind::kFrame);
+  expect_each_once_in_order(stream);
+}
+
+TEST(JitterBufferSequenceSpace, JustUnderHalfTheSpaceAheadIsTooFarToBelieve) {
+  Stream stream;
+  stream.run(0, 10);
+  const std::uint32_t stray = stream.next() + (kHalfSpace - 1);
+  stream.send(stray);
+  EXPECT_EQ(stream.buffer.stats().far_ahead, 1u);
+  EXPECT_EQ(stream.buffer.stats().restarts, 0u) << "one packet does not move the schedule";
+  stream.run(10, 10);
+  stream.tick(3);
+  expect_each_once_in_order(stream);
+  expect_only_missed_after(stream.out, 20);
+  EXPECT_EQ(stream.buffer.stats().played, 20u);
+  EXPECT_EQ(stream.count(stray, PlayoutKind::kFrame), 0u);
+}
+
+TEST(JitterBufferSequenceSpace, ASkipUpToTheLimitRestartsOneBeyondItIsDropped) {
+  Stream stream;
+  stream.run(0, 10);
+  const std::uint32_t beyond = stream.next() + JitterBuffer::kMaxSkip;
+  stream.send(beyond);
+  EXPECT_EQ(stream.buffer.stats().far_ahead, 1u);
+  EXPECT_EQ(stream.buffer.stats().restarts, 0u);
+  const std::uint32_t skip = stream.next() + (JitterBuffer::kMaxSkip - 1);
+  stream.send(skip);
+  EXPECT_EQ(stream.buffer.stats().restarts, 1u);
+  stream.tick(3);
+  EXPECT_EQ(stream.count(skip, PlayoutKind::kFrame), 1u);
+  expect_each_once_in_order(stream);
+}
+
+TEST(JitterBufferSequenceSpace, ASenderThatReallySkippedThatFarIsFollowedOnceTheStreamStops) {
+  Stream stream;
+  stream.run(0, 10);
+  // From here on the sender's numbers are 2^20 ahead: dropped, so the stream stops, then starts
+  // again from them.
+  const std::uint32_t far = stream.next() + (1u << 20);
+  stream.run(far, 30);
+  EXPECT_EQ(stream.buffer.stats().stops, 1u);
+  EXPECT_GE(stream.buffer.stats().far_ahead, 10u);
+  EXPECT_EQ(stream.count(far + 25, PlayoutKind::kFrame), 1u);
+  expect_each_once_in_order(stream);
+}
+
+TEST(JitterBufferSequenceSpace, JustOverHalfTheSpaceAheadIsBehindAndDroppedAsLate) {
+  Stream stream;
+  stream.run(0, 10);
+  const std::uint32_t stray = stream.next() + (kHalfSpace + 1);  // 2^31 − 1 behind
+  stream.send(stray);
+  EXPECT_EQ(stream.buffer.stats().late, 1u);
+  EXPECT_EQ(stream.buffer.stats().restarts, 0u);
+  stream.run(10, 5);
+  stream.tick(3);
+  expect_each_once_in_order(stream);
+  expect_only_missed_after(stream.out, 15);
+  EXPECT_EQ(stream.buffer.stats().played, 15u);
+  EXPECT_EQ(stream.count(stray, PlayoutKind::kFrame), 0u);
+}
+
+TEST(JitterBufferSequenceSpace, TheLargestDistanceIsOneBehind) {
+  Stream stream;
+  stream.run(0, 10);
+  // 2^32 − 1 ahead of the next frame due is the frame that just came out: a duplicate.
+  const std::uint32_t just_played = stream.next() + 0xFFFFFFFFu;
+  ASSERT_EQ(stream.out.back().kind, PlayoutKind::kFrame);
+  stream.send(just_played);
+  EXPECT_EQ(stream.buffer.stats().duplicates, 1u);
+  EXPECT_EQ(stream.buffer.stats().late, 0u);
+  // One that was missed at its turn (10 never arrives) is late when it does.
+  stream.run(11, 5);
+  ASSERT_EQ(stream.count(10, PlayoutKind::kMissed), 1u);
+  stream.send(10);
+  EXPECT_EQ(stream.buffer.stats().late, 1u);
+  EXPECT_EQ(stream.buffer.stats().restarts, 0u);
+  stream.tick(3);
+  EXPECT_EQ(stream.count(10, PlayoutKind::kFrame), 0u);
+  expect_each_once_in_order(stream);
+}
+
+TEST(JitterBufferSequenceSpace, WrapsFromTheLargestNumberToZero) {
+  Stream stream;
+  const std::uint32_t first = 0xFFFFFFF0u;
+  // 0xFFFFFFFF is lost, then arrives after its turn; 0 arrives twice.
+  for (std::uint32_t i = 0; i < 32; ++i) {
+    const std::uint32_t s = first + i;
+    if (s != 0xFFFFFFFFu) {
+      stream.send(s);
+    }
+    if (s == 0u) {
+      stream.send(0u);
+    }
+    if (s == 4u) {
+      stream.send(0xFFFFFFFFu);
+      stream.send(0u);
+    }
+    stream.tick();
+  }
+  stream.tick(3);
+  expect_each_once_in_order(stream);
+  expect_only_missed_after(stream.out, 32);
+  for (std::uint32_t i = 0; i < 32; ++i) {
+    EXPECT_EQ(stream.out[i].sequence, first + i);
+    EXPECT_EQ(stream.out[i].kind,
+              first + i == 0xFFFFFFFFu ? PlayoutKind::kMissed : PlayoutKind::kFrame)
+        << i;
+  }
+  EXPECT_EQ(stream.buffer.stats().late, 1u);
+  EXPECT_EQ(stream.buffer.stats().duplicates, 2u);
+  EXPECT_EQ(stream.buffer.stats().restarts, 0u);
+}
+
+TEST(JitterBufferSequenceSpace, BeforePlayingTheWindowReachesBackAcrossTheWrap) {
+  Stream stream;
+  stream.send(2);
+  stream.send(0xFFFFFFFFu);  // 3 before the first frame: accepted, and played first
+  stream.send(2u - JitterBuffer::kCapacity / 2 - 1);  // 17 before: too old
+  EXPECT_EQ(stream.buffer.stats().late, 1u);
+  stream.tick(4);
+  ASSERT_GE(stream.out.size(), 4u);
+  EXPECT_EQ(stream.out[0].sequence, 0xFFFFFFFFu);
+  EXPECT_EQ(stream.out[0].kind, PlayoutKind::kFrame);
+  EXPECT_EQ(stream.out[1].kind, PlayoutKind::kMissed);  // 0
+  EXPECT_EQ(stream.out[2].kind, PlayoutKind::kMissed);  // 1
+  EXPECT_EQ(stream.out[3].sequence, 2u);
+  EXPECT_EQ(stream.out[3].kind, PlayoutKind::kFrame);
+  expect_each_once_in_order(stream);
+}
+
+TEST(JitterBufferSequenceSpace, NothingComesOutTwiceAfterARestartOrAStop) {
+  Stream stream;
+  stream.run(0, 10);
+  // A restart ahead (the sender skipped 1000 frames), then old numbers again: before the restart
+  // plays they are duplicates of what came out, after it they are late. The old buffer took them
+  // for a new stream start (within kCapacity/2 of the new first frame) or for another skip.
+  const std::uint32_t skip = stream.next() + 1000;
+  stream.send(skip);
+  stream.send(skip - 3);  // inside the window before the new first frame: accepted, played first
+  EXPECT_EQ(stream.buffer.stats().restarts, 1u);
+  stream.send(5);
+  EXPECT_EQ(stream.buffer.stats().duplicates, 1u);
+  stream.tick(3);
+  EXPECT_EQ(stream.count(skip - 3, PlayoutKind::kFrame), 1u);
+  EXPECT_EQ(stream.count(skip, PlayoutKind::kFrame), 1u);
+  stream.send(6);
+  stream.send(skip);
+  EXPECT_EQ(stream.buffer.stats().late, 1u);
+  EXPECT_EQ(stream.buffer.stats().duplicates, 2u);
+  stream.tick(3);
+  EXPECT_EQ(stream.count(5, PlayoutKind::kFrame), 1u);
+  EXPECT_EQ(stream.count(6, PlayoutKind::kFrame), 1u);
+  EXPECT_EQ(stream.buffer.stats().restarts, 1u);
+  // The stream stops (silence), then an old frame is replayed: it does not start a stream.
+  stream.tick(30);
+  EXPECT_EQ(stream.buffer.stats().stops, 1u);
+  stream.send(7);
+  EXPECT_FALSE(stream.buffer.streaming());
+  stream.tick(3);
+  EXPECT_EQ(stream.count(7, PlayoutKind::kFrame), 1u);
+  expect_each_once_in_order(stream);
+  // reset() (a new connection) forgets the numbers: they start again.
+  stream.buffer.reset();
+  stream.out.clear();
+  stream.send(7);
+  stream.tick(3);
+  EXPECT_EQ(stream.count(7, PlayoutKind::kFrame), 1u);
+}
+
+TEST(JitterBufferSequenceSpace, TimesOutOfRangeAreDroppedAndNeverStallTheSchedule) {
+  Stream stream;
+  stream.run(0, 10);
+  // Sender times are doubles off the wire: not finite or beyond ±2^32 s, a frame cannot be
+  // scheduled (late). At 1e17 s the old buffer's schedule froze (a period below the resolution)
+  // and pop() returned kMissed for ever.
+  const double inf = std::numeric_limits<double>::infinity();
+  const std::uint32_t n = stream.next();
+  for (const double t : {inf, -inf, std::numeric_limits<double>::quiet_NaN(), 1e17, -1e308}) {
+    stream.buffer.push(n, frame_at_time(n, t), stream.now);
+  }
+  stream.buffer.push(n, frame_at(n), inf);  // an arrival out of range: the same
+  EXPECT_EQ(stream.buffer.stats().late, 6u);
+  EXPECT_EQ(stream.buffer.stats().restarts, 0u);
+  // Within range but far off: a clock jump, played on a fresh schedule.
+  stream.buffer.push(n, frame_at_time(n, JitterBuffer::kMaxTime), stream.now);
+  EXPECT_EQ(stream.buffer.stats().restarts, 1u);
+  stream.tick(5);
+  EXPECT_EQ(stream.count(n, PlayoutKind::kFrame), 1u);
+  EXPECT_EQ(stream.buffer.pop(std::numeric_limits<double>::quiet_NaN()).kind,
+            PlayoutKind::kPending);
+  stream.tick(30);
+  EXPECT_LT(stream.out.size(), 100u) << "each period brings one result";
+  expect_each_once_in_order(stream);
 }
 
 }  // namespace
