@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "avatar/bone_mapping.h"
+#include "avatar/gltf_limits.h"
 #include "avatar/gltf_mesh.h"
 #include "avatar/gltf_nodes.h"
 #include "avatar/gltf_vrm.h"
@@ -23,7 +24,7 @@ namespace {
 using Mat3d = Eigen::Matrix3d;
 using Vec3d = Eigen::Vector3d;
 
-constexpr std::size_t kMaxFileBytes = std::size_t{512} << 20;
+using gltf::kMaxFileBytes;
 constexpr int kMaxJoints = 1024;
 
 // A rigid transform in double precision, for the conversions done once at load.
@@ -65,9 +66,15 @@ tinygltf::Model parse(std::span<const std::uint8_t> bytes, const std::string& so
                 std::to_string(kMaxFileBytes >> 20) + " MiB an avatar may have");
   }
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  // Everything tinygltf would trust is checked first: chunk lengths, JSON depth and size (its
+  // value conversion recurses), and the URIs it would open.
+  const std::string kind = binary ? "glTF binary (.glb)" : "glTF (.gltf) file";
+  gltf::check_gltf_json(gltf::gltf_json(bytes, binary, source), source, !base_dir.empty(), kind);
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(skip_image, nullptr);
+  gltf::ConfinedFiles files(base_dir);  // and, behind that check, it opens nothing else
+  loader.SetFsCallbacks(files.callbacks());
   std::string err;
   std::string warn;
   bool ok = false;
@@ -82,8 +89,8 @@ tinygltf::Model parse(std::span<const std::uint8_t> bytes, const std::string& so
     err = e.what();
   }
   if (!ok) {
-    throw Error(source + ": not a readable glTF " + (binary ? "binary (.glb)" : "(.gltf) file") +
-                ": " + (err.empty() ? "tinygltf gave no reason" : trimmed(err)));
+    throw Error(source + ": not a readable " + kind + ": " +
+                (err.empty() ? "tinygltf gave no reason" : trimmed(err)));
   }
   return model;
 }
@@ -104,8 +111,11 @@ std::vector<int> skeleton_nodes(const tinygltf::Model& model, const std::string&
   std::vector<int> nodes;
   for (std::size_t s = 0; s < model.skins.size(); ++s) {
     const auto& joints = model.skins[s].joints;
-    if (joints.empty()) {
-      throw Error(source + ": skins[" + std::to_string(s) + "] has no joints");
+    if (joints.empty() || joints.size() > gltf::kMaxSkinJoints) {
+      // Every mesh node bound to a skin computes a matrix per entry: the count is bounded.
+      throw Error(source + ": skins[" + std::to_string(s) + "] has " +
+                  std::to_string(joints.size()) + " joints (1 to " +
+                  std::to_string(gltf::kMaxSkinJoints) + ")");
     }
     for (const int j : joints) {
       if (j < 0 || static_cast<std::size_t>(j) >= model.nodes.size()) {
@@ -236,6 +246,7 @@ Avatar load_avatar(std::span<const std::uint8_t> bytes, const std::string& sourc
   }
   ik::validate(skeleton, source);
 
+  gltf::check_mesh_budget(model, tree.depth_first, source);  // before baking allocates anything
   avatar.mesh = gltf::bake_rest_mesh(model, tree, joints, R, source);
   if (avatar.mesh.indices.empty()) {
     throw Error(source + ": the skinned mesh has no triangles");
@@ -259,6 +270,10 @@ Avatar load_avatar(std::span<const std::uint8_t> bytes, const std::string& sourc
 
 Avatar load_avatar(const std::filesystem::path& file) {
   const std::string source = file.string();
+  std::error_code ec;
+  if (std::filesystem::exists(file, ec) && !std::filesystem::is_regular_file(file, ec)) {
+    throw Error(source + ": not a regular file");  // a pipe or device would never end
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) {
     throw Error(source + ": cannot open");
@@ -278,7 +293,10 @@ Avatar load_avatar(const std::filesystem::path& file) {
   if (!in) {
     throw Error(source + ": cannot read");
   }
-  return load_avatar(bytes, source, file.parent_path());
+  // External buffers are looked up beside the file ("." for a bare file name: an empty folder
+  // would mean "no folder", data: URIs only).
+  const std::filesystem::path folder = file.parent_path();
+  return load_avatar(bytes, source, folder.empty() ? std::filesystem::path(".") : folder);
 }
 
 }  // namespace deixis::avatar

@@ -34,7 +34,12 @@ struct Avatar {
 Avatar load_avatar(const std::filesystem::path& file);
 
 // The same from bytes already in memory; `source` names them in errors. A .gltf's external
-// buffers are looked up in `base_dir`.
+// buffers and images are looked up in `base_dir` and must lie inside it (no "..", no absolute
+// paths, no scheme but data:); with an empty `base_dir` only data: URIs are read.
+//
+// The file is untrusted: its size, JSON depth and size, external bytes, and the vertices and
+// indices of the mesh it describes (every node that places a mesh counted) are capped before
+// anything is parsed or baked (avatar/gltf_limits.h, docs/avatars.md).
 Avatar load_avatar(std::span<const std::uint8_t> bytes, const std::string& source,
                    const std::filesystem::path& base_dir = {});
 

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "avatar/gltf_accessors.h"
+#include "avatar/gltf_limits.h"
 #include "avatar/influences.h"
 #include "gesture/error.h"
 
@@ -135,6 +136,11 @@ std::vector<std::vector<Influence>> read_influences(const Context& c, const tiny
         throw Error(where + ": the mesh is skinned but has no JOINTS_0/WEIGHTS_0");
       }
       break;
+    }
+    if (set == kMaxInfluenceSets) {
+      // Each set is read for every vertex and kept until packing: their number is bounded.
+      throw Error(where + ": more than " + std::to_string(kMaxInfluenceSets) +
+                  " JOINTS_n/WEIGHTS_n sets");
     }
     if (j == p.attributes.end() || w == p.attributes.end()) {
       throw Error(where + ": " + (j == p.attributes.end() ? joints_name : weights_name) +
