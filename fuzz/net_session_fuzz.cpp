@@ -40,7 +40,8 @@ SessionConfig config(Role role, const char* site, bool passphrase) {
   c.target_map.objects.push_back(
       {1, "TV", TargetKind::kScreen, Vec3(0, 1, -2), Vec3(1, 0.6f, 0.1f)});
   c.passphrase = passphrase ? "fuzz" : "";
-  c.kdf = {1, 8};
+  c.kdf = c.min_kdf = {1, 8};
+  c.derive_on_this_thread = true;  // results must not depend on a thread's timing
   // A logger without sinks: thousands of sessions a second must not flood the fuzzer's output.
   static const auto quiet = std::make_shared<spdlog::logger>("net_session_fuzz");
   c.logger = quiet;

@@ -8,6 +8,24 @@ namespace deixis::net {
 
 DropLog::DropLog(std::shared_ptr<spdlog::logger> logger) : logger_(std::move(logger)) {}
 
+bool LineBudget::take(double now) {
+  if (!started_) {
+    started_ = true;
+    last_refill_ = now;
+  }
+  tokens_ = std::min(burst_, tokens_ + std::max(0.0, now - last_refill_) * rate_);
+  last_refill_ = std::max(last_refill_, now);
+  if (tokens_ < 1.0) {
+    ++held_since_line_;
+    ++held_total_;
+    return false;
+  }
+  tokens_ -= 1.0;
+  last_held_ = held_since_line_;
+  held_since_line_ = 0;
+  return true;
+}
+
 bool DropLog::take_token(double now) {
   if (!started_) {
     started_ = true;

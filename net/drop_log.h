@@ -25,6 +25,29 @@ struct DropCounters {
   std::uint64_t operator[](DropReason r) const { return by_reason[static_cast<std::size_t>(r)]; }
 };
 
+// A token bucket for log lines on the caller's clock: a burst of `burst` lines, then `per_second`.
+// What it holds back is counted, so the next line written can say how many were.
+class LineBudget {
+ public:
+  LineBudget(double burst = 5.0, double per_second = 2.0) : burst_(burst), rate_(per_second) {
+    tokens_ = burst;
+  }
+  bool take(double now);  // true: write the line
+  // After take() said true: how many lines were held back before this one.
+  std::uint64_t held_back() const { return last_held_; }
+  std::uint64_t held_back_total() const { return held_total_; }
+
+ private:
+  double burst_;
+  double rate_;
+  double tokens_;
+  double last_refill_ = 0.0;
+  bool started_ = false;
+  std::uint64_t held_since_line_ = 0;
+  std::uint64_t last_held_ = 0;
+  std::uint64_t held_total_ = 0;
+};
+
 class DropLog {
  public:
   static constexpr double kBurst = 5.0;

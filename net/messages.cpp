@@ -171,6 +171,7 @@ void encode(const Welcome& m, std::vector<std::byte>& out) {
   w.u32(m.kdf.opslimit);
   w.u32(m.kdf.memlimit_kib);
   w.bytes(m.host_challenge);
+  w.bytes(m.host_key);
 }
 
 WireResult decode(std::span<const std::byte> packet, Welcome& out) {
@@ -188,7 +189,7 @@ WireResult decode(std::span<const std::byte> packet, Welcome& out) {
     return e;
   }
   if (!r.bytes(m.salt) || !r.u32(m.kdf.opslimit) || !r.u32(m.kdf.memlimit_kib) ||
-      !r.bytes(m.host_challenge)) {
+      !r.bytes(m.host_challenge) || !r.bytes(m.host_key)) {
     return wire_error(DropReason::kTruncated, "welcome");
   }
   if (m.auth == AuthMode::kPassphrase &&
@@ -210,6 +211,7 @@ void encode(const Join& m, std::vector<std::byte>& out) {
   w.u16(m.protocol_version);
   w.u8(static_cast<std::uint8_t>(m.auth));
   w.bytes(m.joiner_challenge);
+  w.bytes(m.joiner_key);
   w.bytes(m.proof);
 }
 
@@ -227,7 +229,7 @@ WireResult decode(std::span<const std::byte> packet, Join& out) {
   if (WireResult e = read_auth(r, m.auth, "join.auth"); !e.ok()) {
     return e;
   }
-  if (!r.bytes(m.joiner_challenge) || !r.bytes(m.proof)) {
+  if (!r.bytes(m.joiner_challenge) || !r.bytes(m.joiner_key) || !r.bytes(m.proof)) {
     return wire_error(DropReason::kTruncated, "join");
   }
   if (WireResult e = check_end(r, "join"); !e.ok()) {

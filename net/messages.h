@@ -26,14 +26,24 @@ struct KdfCost {
   std::uint32_t memlimit_kib = 64 * 1024;  // crypto_pwhash_MEMLIMIT_INTERACTIVE (64 MiB)
   bool operator==(const KdfCost&) const = default;
 };
-// What a joiner accepts (a host must not make it allocate gigabytes): MODERATE at most.
+// What the welcome's format allows (a host must not make a joiner allocate gigabytes): MODERATE
+// at most. Within it, a joiner also enforces a floor (SessionConfig::min_kdf, libsodium's
+// INTERACTIVE by default), so that a fake host cannot collect a proof that is cheap to test
+// passphrase guesses against.
 inline constexpr std::uint32_t kMinKdfOps = 1;
 inline constexpr std::uint32_t kMaxKdfOps = 4;
 inline constexpr std::uint32_t kMinKdfMemKib = 8;
 inline constexpr std::uint32_t kMaxKdfMemKib = 256 * 1024;
+// libsodium's INTERACTIVE limits: the joiner's default floor.
+inline constexpr KdfCost kInteractiveKdf{2, 64 * 1024};
+// True when `cost` is at least `floor` in both passes and memory.
+inline bool at_least(const KdfCost& cost, const KdfCost& floor) {
+  return cost.opslimit >= floor.opslimit && cost.memlimit_kib >= floor.memlimit_kib;
+}
 
 using Salt = std::array<std::byte, kSaltBytes>;
 using Challenge = std::array<std::byte, kChallengeBytes>;
+using ExchangeKey = std::array<std::byte, kExchangeKeyBytes>;  // X25519 public key
 using Proof = std::array<std::byte, kProofBytes>;
 
 struct Welcome {  // host → joiner, first message after the transport connects
@@ -42,17 +52,19 @@ struct Welcome {  // host → joiner, first message after the transport connects
   Salt salt{};        // zero when open
   KdfCost kdf{0, 0};  // zero when open
   Challenge host_challenge{};
+  ExchangeKey host_key{};  // ephemeral, fresh per connection; zero when open
 };
 
 struct Join {  // joiner → host
   std::uint16_t protocol_version = kProtocolVersion;
   AuthMode auth = AuthMode::kOpen;
   Challenge joiner_challenge{};
-  Proof proof{};  // zero when open
+  ExchangeKey joiner_key{};  // ephemeral, fresh per connection; zero when open
+  Proof proof{};             // the joiner's site name, sealed; zero when open
 };
 
 struct Accept {   // host → joiner
-  Proof proof{};  // zero when open
+  Proof proof{};  // the host's site name, sealed; zero when open
 };
 
 // Who is at the other end: the avatar to show and the body it must move like (DESIGN §9).
@@ -76,9 +88,12 @@ struct Bye {
 };
 
 // Sizes of the fixed-size messages.
-inline constexpr std::size_t kWelcomeBytes = 64;
-inline constexpr std::size_t kJoinBytes = 72;
-inline constexpr std::size_t kAcceptBytes = 33;
+// type, magic, version, auth: 8 bytes; then the fields.
+inline constexpr std::size_t kWelcomeBytes =
+    8 + kSaltBytes + 8 + kChallengeBytes + kExchangeKeyBytes;
+inline constexpr std::size_t kJoinBytes = 8 + kChallengeBytes + kExchangeKeyBytes + kProofBytes;
+inline constexpr std::size_t kAcceptBytes = 1 + kProofBytes;
+static_assert(kWelcomeBytes == 96 && kJoinBytes == 153 && kAcceptBytes == 82);
 inline constexpr std::size_t kHeartbeatBytes = 5;
 inline constexpr std::size_t kByeBytes = 2;
 

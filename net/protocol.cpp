@@ -48,6 +48,12 @@ std::string_view bye_reason_name(ByeReason reason) {
       return "the host already has a peer";
     case ByeReason::kProtocolError:
       return "protocol error";
+    case ByeReason::kTryLater:
+      return "too many failed attempts from this address: try later";
+    case ByeReason::kWeakKeyCost:
+      return "the host's passphrase key cost is outside the accepted range";
+    case ByeReason::kFlooding:
+      return "sent more than the packet budget";
   }
   return "unknown";
 }
@@ -58,10 +64,13 @@ bool is_refusal(ByeReason reason) {
     case ByeReason::kPassphraseRequired:
     case ByeReason::kPassphraseUnexpected:
     case ByeReason::kAuthenticationFailed:
+    case ByeReason::kWeakKeyCost:
       return true;
     case ByeReason::kLeaving:
     case ByeReason::kBusy:
     case ByeReason::kProtocolError:
+    case ByeReason::kTryLater:
+    case ByeReason::kFlooding:
       return false;
   }
   return false;

@@ -10,7 +10,9 @@
 
 namespace deixis::net {
 
-inline constexpr std::uint16_t kProtocolVersion = 1;
+// 2: ephemeral X25519 in the handshake, site names bound by the proofs, padded reliable packets,
+// the joiner's floor on the key cost (docs/protocol.md, "Versioning").
+inline constexpr std::uint16_t kProtocolVersion = 2;
 // The first bytes of welcome and join: "DEIX". A peer that is not Deixis fails here.
 inline constexpr std::array<std::byte, 4> kMagic = {std::byte{'D'}, std::byte{'E'}, std::byte{'I'},
                                                     std::byte{'X'}};
@@ -21,8 +23,8 @@ inline constexpr std::size_t kChannelCount = 2;
 
 // The first byte of every packet.
 enum class MessageType : std::uint8_t {
-  kWelcome = 0x01,    // host → joiner, reliable, plain: version, auth mode, salt, challenge
-  kJoin = 0x02,       // joiner → host, reliable, plain: version, auth mode, challenge, proof
+  kWelcome = 0x01,    // host → joiner, reliable, plain: version, auth, salt, cost, challenge, key
+  kJoin = 0x02,       // joiner → host, reliable, plain: version, auth, challenge, key, proof
   kAccept = 0x03,     // host → joiner, reliable, plain: the host's proof
   kHello = 0x04,      // reliable: version, site name, avatar description
   kTargetMap = 0x05,  // reliable: the sender's room
@@ -44,7 +46,11 @@ inline constexpr std::size_t kTrackingBytes = 82;      // a tracking message, fi
 inline constexpr std::size_t kSealOverheadBytes = 21;  // type, counter, Poly1305 tag
 inline constexpr std::size_t kSaltBytes = 16;
 inline constexpr std::size_t kChallengeBytes = 32;
-inline constexpr std::size_t kProofBytes = 32;
+inline constexpr std::size_t kExchangeKeyBytes = 32;  // an X25519 public key (crypto_kx)
+// A proof: a site name (u8 length, 64 bytes zero-padded) sealed with a handshake key, so that
+// only a peer that knows the passphrase can make it, or read the name (docs/protocol.md §5).
+inline constexpr std::size_t kProofNameBytes = 1 + kMaxTextBytes;
+inline constexpr std::size_t kProofBytes = kProofNameBytes + 16;
 
 // Sent in a bye (and as ENet's disconnect data when a host turns away a second peer).
 enum class ByeReason : std::uint8_t {
@@ -55,8 +61,11 @@ enum class ByeReason : std::uint8_t {
   kAuthenticationFailed = 4,  // a proof did not verify: the passphrases differ
   kBusy = 5,                  // the host already has a peer
   kProtocolError = 6,         // a message arrived out of order during the handshake
+  kTryLater = 7,              // the host holds back this address after failed proofs
+  kWeakKeyCost = 8,           // the welcome's key cost is outside what the joiner accepts
+  kFlooding = 9,              // the peer sent more than its packet or byte budget
 };
-inline constexpr std::uint8_t kMaxByeReason = 6;
+inline constexpr std::uint8_t kMaxByeReason = 9;
 std::string_view bye_reason_name(ByeReason reason);
 // Reasons that retrying cannot fix: a joiner that hears one stops reconnecting.
 bool is_refusal(ByeReason reason);

@@ -2,6 +2,8 @@
 
 #include <sodium.h>
 
+#include <algorithm>
+
 #include "net/wire.h"
 
 namespace deixis::net {
@@ -36,6 +38,38 @@ std::size_t channel_index(Channel channel) {
 }
 
 }  // namespace
+
+std::size_t padded_size(std::size_t n) {
+  for (const std::size_t bucket : kPaddingBuckets) {
+    if (n + 1 <= bucket) {
+      return bucket;
+    }
+  }
+  return n + 1;
+}
+
+std::size_t pad(std::span<const std::byte> inner, std::span<std::byte> out) {
+  const std::size_t size = padded_size(inner.size());
+  if (out.size() < size) {
+    return 0;
+  }
+  std::copy(inner.begin(), inner.end(), out.begin());
+  out[inner.size()] = std::byte{0x80};
+  std::fill(out.begin() + static_cast<std::ptrdiff_t>(inner.size()) + 1,
+            out.begin() + static_cast<std::ptrdiff_t>(size), std::byte{0});
+  return size;
+}
+
+std::span<const std::byte> unpad(std::span<const std::byte> padded) {
+  std::size_t end = padded.size();
+  while (end > 0 && padded[end - 1] == std::byte{0}) {
+    --end;
+  }
+  if (end == 0 || padded[end - 1] != std::byte{0x80} || padded_size(end - 1) != padded.size()) {
+    return {};
+  }
+  return padded.first(end - 1);
+}
 
 DropReason ReplayWindow::check(std::uint32_t counter) const {
   if (!any_ || counter > highest_) {

@@ -8,6 +8,7 @@
 // Opening checks the replay window before decrypting (cheap refusal) and records the counter only
 // after the tag verified, so forged packets cannot move the window. Nothing here allocates.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -16,6 +17,17 @@
 #include "net/protocol.h"
 
 namespace deixis::net {
+
+// Padding of sealed reliable packets (docs/protocol.md §4.9), so that sizes do not tell name
+// lengths: the inner packet, then 0x80, then zeros up to the next size bucket. Tracking packets
+// are all the same size and are not padded.
+inline constexpr std::array<std::size_t, 6> kPaddingBuckets = {64, 256, 1024, 4096, 16384, 25600};
+// The padded size of an inner packet of `n` bytes (n + 1 above the largest bucket).
+std::size_t padded_size(std::size_t n);
+// Writes `inner` padded into `out`; the padded size, or 0 when `out` is too small.
+std::size_t pad(std::span<const std::byte> inner, std::span<std::byte> out);
+// The inner packet of a padded one; empty when the padding breaks the rule.
+std::span<const std::byte> unpad(std::span<const std::byte> padded);
 
 // Remembers the last 64 counters below the highest one seen.
 class ReplayWindow {

@@ -9,15 +9,23 @@
 //   kRefused: the peer refused us, or we it, for a reason retrying cannot fix (wrong passphrase,
 //   passphrase on one side only, another protocol version). kIdle: not started, or closed.
 //
-// A host listens and serves one joiner at a time; after a connection ends it listens again. A
-// joiner reconnects by itself with a backoff. Heartbeats go every heartbeat_interval; a peer not
+// A host listens and serves one joiner at a time: the first that *completes* the handshake, not
+// the first that connected. Strangers still in their handshake wait in a bounded table (a short
+// deadline each, a small budget per network address, the oldest let go when it is full), so that
+// silent connections never keep the rightful joiner out; an address whose proofs fail is held back
+// for longer and longer. After a connection ends the host listens again. A joiner reconnects by
+// itself with a backoff. Heartbeats go every heartbeat_interval; a peer not
 // heard for heartbeat_timeout has timed out (status().last_end says so). Tracking received while
 // streaming goes through the jitter buffer (next_frame); when the stream stops or the connection
 // ends, next_frame says kNoStream, so the remote avatar is hidden, never frozen.
 //
 // With a passphrase, every packet after the handshake is sealed (sealing.h) and anything that is
 // not is counted and dropped; a peer that cannot prove the passphrase is refused before it sees a
-// hello, a target map or a tracking frame.
+// hello, a target map or a tracking frame, or learns whether a call is in progress. Argon2id runs
+// off the caller's thread (key_derivation.h): the session stays in its handshake until it is done.
+//
+// Work per service() call is bounded (max_events_per_service), and the peer has a packet and byte
+// budget per second: one that floods is cut off with a logged reason (docs/security.md).
 //
 // Nothing received is trusted: each packet is decoded from its bytes with bounds and range checks,
 // and a bad one is counted per reason and logged at a limited rate (drop_log.h). Streaming
@@ -32,6 +40,7 @@
 
 #include "net/drop_log.h"
 #include "net/jitter_buffer.h"
+#include "net/key_derivation.h"
 #include "net/link.h"
 #include "net/messages.h"
 #include "net/sealing.h"
@@ -66,21 +75,42 @@ enum class EndCause : std::uint8_t {
   kRefusedPeer,        // we refused the peer (status().last_bye: why)
   kTransportLost,      // the transport reported the peer gone without a bye
   kClosed,             // close() was called
+  kFlooded,            // the peer sent more than its budget and was cut off
 };
 std::string_view end_cause_name(EndCause cause);
 
+// What one peer may send per second (docs/security.md): a token bucket of `burst_seconds` worth.
+// Tracking at 30 Hz, heartbeats and an occasional target map use about a third of it.
+struct PeerBudget {
+  double packets_per_second = 120.0;
+  double bytes_per_second = 64.0 * 1024.0;
+  double burst_seconds = 2.0;
+};
+
 struct SessionConfig {
   Role role = Role::kJoiner;
-  Hello hello;                      // ours: site, avatar, body calibration
-  TargetMap target_map;             // ours
-  std::string passphrase;           // empty: an open session
-  KdfCost kdf;                      // host: the cost of deriving the key (the joiner follows it)
+  Hello hello;                        // ours: site, avatar, body calibration
+  TargetMap target_map;               // ours
+  std::string passphrase;             // empty: an open session
+  KdfCost kdf;                        // host: the cost of deriving the key (the joiner follows it)
+  KdfCost min_kdf = kInteractiveKdf;  // joiner: the weakest welcome cost it accepts
+  // Derive the passphrase key on the calling thread: for simulated-clock tests and fuzzing only.
+  bool derive_on_this_thread = false;
   double heartbeat_interval = 0.5;  // s
   double heartbeat_timeout = 3.0;   // s of silence before the peer counts as gone
   double handshake_timeout = 5.0;   // s from connecting to streaming
   double connect_timeout = 3.0;     // s per attempt (joiner)
   double reconnect_min = 0.5;       // s before the first retry; doubles per failed attempt
   double reconnect_max = 4.0;       // s
+  // Host: strangers in their handshake (docs/protocol.md §6).
+  double pending_timeout = 3.0;             // s from connecting to a verified join
+  std::size_t max_pending = 32;             // at once (the link holds twice as many peers)
+  std::size_t max_pending_per_address = 4;  // at once from one network address
+  std::size_t free_failures = 3;            // failed proofs per address before any backoff
+  double max_backoff = 60.0;                // s an address waits after repeated failed proofs
+  std::size_t rotate_salt_after = 8;        // failed proofs before the host draws a new salt
+  std::size_t max_events_per_service = 64;  // link events one service() call handles at most
+  PeerBudget budget;
   JitterConfig jitter;
   std::shared_ptr<spdlog::logger> logger;  // null: spdlog's default logger
 };
@@ -98,6 +128,18 @@ struct PeerStatus {
   std::uint64_t auth_failures = 0;  // proofs that did not verify
 };
 
+// Host: what became of the strangers that connected (docs/security.md).
+struct StrangerStats {
+  std::uint64_t connected = 0;    // connections accepted into the handshake table
+  std::uint64_t over_budget = 0;  // turned away at once: their address had too many pending
+  std::uint64_t evicted = 0;      // let go to make room (the table was full)
+  std::uint64_t timed_out = 0;    // no verified join within pending_timeout
+  std::uint64_t held_back = 0;    // joins refused while their address was backing off
+  std::uint64_t busy = 0;         // proved the passphrase (or open) while we served another
+  std::uint64_t chatty = 0;       // sent more than a handshake needs
+  std::uint64_t salts_rotated = 0;
+};
+
 struct SessionStats {
   std::uint64_t packets_sent = 0;
   std::uint64_t bytes_sent = 0;  // packet bytes handed to the link (ENet adds its headers)
@@ -108,6 +150,8 @@ struct SessionStats {
   std::uint64_t tracking_received = 0;  // decoded and handed to the jitter buffer
   std::uint64_t parts_not_sent = 0;     // tracked parts the encoder could not represent
   std::uint64_t target_maps_received = 0;
+  std::uint64_t floods_cut = 0;       // peers cut off for exceeding their budget
+  std::uint64_t service_bounded = 0;  // service() calls that left events for the next one
 };
 
 class Session {
@@ -121,7 +165,8 @@ class Session {
 
   // Host: start listening. Joiner: make the first attempt.
   void start(double now);
-  // Handles every link event and timer; waits at most `wait_ms` for the first event.
+  // Handles link events (at most max_events_per_service) and timers; waits at most `wait_ms`
+  // for the first event.
   void service(double now, std::uint32_t wait_ms = 0);
   // Sends a tracking frame (only while streaming; false otherwise or when the link refuses).
   bool send_tracking(const TrackingFrame& frame);
@@ -134,11 +179,16 @@ class Session {
   void close(double now);
 
   SessionState state() const { return status_.state; }
+  PeerId peer() const { return peer_; }  // the connection served (or attempted); kNoPeer: none
   const PeerStatus& status() const { return status_; }
   double silence(double now) const { return now - status_.last_heard; }
   const Hello* remote_hello() const { return remote_hello_ ? &*remote_hello_ : nullptr; }
   const TargetMap* remote_target_map() const { return remote_map_ ? &*remote_map_ : nullptr; }
   const SessionStats& stats() const { return stats_; }
+  const StrangerStats& strangers() const { return strangers_; }
+  std::size_t pending() const { return pending_.size(); }  // host: strangers in their handshake
+  // The passphrase key is being derived (the handshake waits for it).
+  bool deriving_key() const { return derivation_.started(); }
   const DropCounters& drops() const { return drop_log_.counters(); }
   const DropLog& drop_log() const { return drop_log_; }
   const JitterStats& jitter() const { return jitter_.stats(); }
@@ -146,36 +196,92 @@ class Session {
   bool sealed() const { return sealer_.has_value(); }  // this connection's packets are sealed
 
  private:
+  // Host: a stranger in its handshake, until its join is verified (then it is served or told
+  // busy) or it is let go.
+  struct Pending {
+    PeerId peer = kNoPeer;
+    std::uint32_t address = 0;
+    double since = 0.0;
+    double deadline = 0.0;
+    Welcome welcome;  // what we sent it
+    ExchangeKeyPair keys;
+    std::optional<Join> join;  // its join, waiting for our key
+    int packets = 0;
+  };
+  // Host: failed proofs per network address, for the backoff.
+  struct AddressRecord {
+    std::uint32_t address = 0;
+    std::size_t failures = 0;
+    double last_failure = -1e300;
+    double blocked_until = 0.0;
+  };
+  // Host: the passphrase key for one salt.
+  struct HostKey {
+    Salt salt{};
+    KdfCost cost{0, 0};
+    std::optional<Key> master;
+  };
+  struct Bucket {
+    double packets = 0.0;
+    double bytes = 0.0;
+    double last = 0.0;
+  };
+
   bool has_passphrase() const { return !config_.passphrase.empty(); }
+  bool is_host() const { return config_.role == Role::kHost; }
   bool connected() const;
+  bool serving() const;  // host: a peer past its handshake
   spdlog::logger& log() const;
+  std::string_view peer_name() const { return link_.peer_name(peer_); }
 
   // Link events.
-  void on_connected(double now);
+  void on_event(const LinkEvent& e, double now);
+  void on_connected(PeerId peer, double now);
   void on_disconnected(std::uint32_t code, double now);
   void on_packet(Channel channel, std::span<const std::byte> bytes, double now);
   void dispatch(Channel channel, std::span<const std::byte> packet, double now);
   void drop(Channel channel, std::span<const std::byte> packet, WireResult why, double now);
+  bool within_budget(std::size_t bytes, double now);
 
-  // Messages.
+  // Host: strangers.
+  void on_stranger(PeerId peer, double now);
+  void on_stranger_packet(Pending& p, Channel channel, std::span<const std::byte> bytes,
+                          double now);
+  void verify_join(Pending& p, double now);
+  void serve(Pending& p, const std::optional<Key>& prk, const std::string& joiner_site, double now);
+  void let_go(PeerId peer, ByeReason reason);
+  void remove_pending(PeerId peer);
+  Pending* find_pending(PeerId peer);
+  std::size_t pending_from(std::uint32_t address) const;
+  void evict_one(double now);
+  AddressRecord& record_of(std::uint32_t address, double now);
+  void failed_proof(std::uint32_t address, double now);
+  const HostKey* host_key_for(const Salt& salt) const;
+  void host_key_timers(double now);
+  void pending_timers(double now);
+
+  // Messages (the served peer, or the joiner's host).
   void on_welcome(const Welcome& m, double now);
-  void on_join(const Join& m, double now);
+  void send_join(double now);
   void on_accept(const Accept& m, double now);
-  void on_hello(Hello&& m);
+  void on_hello(Hello&& m, double now);
   void on_bye(const Bye& m, double now);
   void on_tracking(Channel channel, std::span<const std::byte> packet, double now);
 
   // Transitions.
-  void begin_connection(double now);
-  void authenticated(const Key& master);
+  void begin_connection(PeerId peer, double now);
+  void authenticated(const Key& prk, std::string_view joiner_site, std::string_view host_site);
   void enter_hello(double now);
   void refuse(ByeReason reason, double now);  // we refuse the peer
+  void cut_off(double now);                   // the peer flooded
   void end_connection(EndCause cause, double now);
   void schedule_attempt(double now);
   void attempt(double now);
   void timers(double now);
+  void warn_limited(double now, std::string_view what);
 
   // Sending.
+  bool send_to(PeerId peer, std::span<const std::byte> packet);  // plain, reliable
   bool send_reliable(std::span<const std::byte> packet);
   bool send_bye(ByeReason reason);
   void send_hello_and_map();
@@ -183,25 +289,35 @@ class Session {
   Link& link_;
   SessionConfig config_;
   DropLog drop_log_;
+  LineBudget warn_budget_;
   JitterBuffer jitter_;
   PeerStatus status_;
   SessionStats stats_;
+  StrangerStats strangers_;
 
   // Ours, encoded once (and on set_target_map).
   std::vector<std::byte> hello_bytes_;
   std::vector<std::byte> map_bytes_;
-  // Host: the session's salt and master key; joiner: the key for the last salt it was given.
-  Salt salt_{};
-  KdfCost key_cost_{0, 0};
-  std::optional<Key> master_key_;
+  KeyDerivation derivation_;
+  // Host: the key for the salt in our welcomes, and the one before it (strangers welcomed before
+  // a rotation); joiner: the key for the last salt and cost it was given.
+  HostKey key_;
+  HostKey previous_key_;
+  std::size_t failures_since_rotation_ = 0;
+  std::vector<Pending> pending_;  // host; capacity max_pending, never more
+  std::array<AddressRecord, 64> addresses_{};
 
-  // This connection.
-  Challenge host_challenge_{};
-  Challenge joiner_challenge_{};
+  // This connection (the served peer, or the joiner's attempt).
+  PeerId peer_ = kNoPeer;
+  Welcome welcome_;                               // joiner: the host's welcome
+  Join welcome_join_;                             // joiner: our answer to it
+  std::optional<ExchangeKeyPair> exchange_keys_;  // joiner: ours
+  std::string peer_site_;  // the site name the peer proved (passphrase sessions)
   bool welcome_seen_ = false;
-  bool join_seen_ = false;
+  bool join_sent_ = false;
   std::optional<PacketSealer> sealer_;
   std::optional<PacketOpener> opener_;
+  Bucket budget_;
   double deadline_ = 0.0;  // connect or handshake deadline
   double next_heartbeat_ = 0.0;
   std::uint32_t heartbeats_sent_ = 0;
@@ -212,6 +328,7 @@ class Session {
 
   // Preallocated buffers: streaming touches nothing else.
   std::array<std::byte, kTrackingBytes> tracking_tx_{};
+  std::vector<std::byte> padded_tx_;
   std::vector<std::byte> sealed_tx_;
   std::vector<std::byte> plain_rx_;
   std::vector<std::byte> scratch_;  // handshake messages

@@ -24,7 +24,7 @@ SimulatedNetwork::SimulatedNetwork(const LinkConditions& conditions, std::uint64
   }
 }
 
-std::uint32_t SimulatedNetwork::End::round_trip_ms() const {
+std::uint32_t SimulatedNetwork::End::round_trip_ms(PeerId) const {
   return static_cast<std::uint32_t>(std::lround(2000.0 * net_->conditions_.delay));
 }
 
@@ -61,9 +61,9 @@ void SimulatedNetwork::enqueue(Side to, LinkEvent::Kind kind, Channel channel, d
   free->bytes.assign(bytes.begin(), bytes.end());
 }
 
-bool SimulatedNetwork::connect(Side side) {
+PeerId SimulatedNetwork::connect(Side side) {
   if (side != Side::kJoiner || connecting_ || state(side).connected) {
-    return false;
+    return kNoPeer;
   }
   connecting_ = true;
   const std::uint64_t attempt = ++connection_;
@@ -74,31 +74,32 @@ bool SimulatedNetwork::connect(Side side) {
     enqueue(Side::kHost, LinkEvent::Kind::kConnected, Channel::kReliable, now_ + conditions_.delay,
             0, attempt, {});
   }
-  return true;
+  return static_cast<PeerId>(attempt);
 }
 
-void SimulatedNetwork::disconnect(Side side, std::uint32_t code) {
-  if (side == Side::kJoiner) {
+void SimulatedNetwork::disconnect(Side side, PeerId peer, std::uint32_t code) {
+  EndState& end = state(side);
+  if (side == Side::kJoiner && connecting_ && peer == static_cast<PeerId>(connection_)) {
     connecting_ = false;  // an attempt in flight is abandoned
   }
-  EndState& end = state(side);
-  if (!end.connected) {
+  if (!end.connected || peer != static_cast<PeerId>(end.connection)) {
     return;
   }
   end.connected = false;
   // Whatever was sent before goes first (reliable order), then the peer learns of it.
-  EndState& peer = state(other(side));
+  EndState& far_end = state(other(side));
   if (!partitioned_) {
-    const double at = std::max(now_ + conditions_.delay, peer.last_reliable_at);
-    peer.last_reliable_at = at;
+    const double at = std::max(now_ + conditions_.delay, far_end.last_reliable_at);
+    far_end.last_reliable_at = at;
     enqueue(other(side), LinkEvent::Kind::kDisconnected, Channel::kReliable, at, code,
             end.connection, {});
   }
 }
 
-bool SimulatedNetwork::send(Side from, Channel channel, std::span<const std::byte> packet) {
+bool SimulatedNetwork::send(Side from, PeerId peer, Channel channel,
+                            std::span<const std::byte> packet) {
   const EndState& sender = state(from);
-  if (!sender.connected) {
+  if (!sender.connected || peer != static_cast<PeerId>(sender.connection)) {
     return false;
   }
   ++stats_.sent;
@@ -137,8 +138,14 @@ void SimulatedNetwork::inject(Side to, Channel channel, std::span<const std::byt
           state(to).connection, packet);
 }
 
+void SimulatedNetwork::inject_disconnect(Side to, std::uint32_t code) {
+  enqueue(to, LinkEvent::Kind::kDisconnected, Channel::kReliable, now_ + conditions_.delay, code,
+          state(to).connection, {});
+}
+
 LinkEvent SimulatedNetwork::deliver(Side side, InFlight& f) {
   EndState& end = state(side);
+  const auto id = static_cast<PeerId>(f.connection);
   const bool current = end.connected && end.connection == f.connection;
   switch (f.kind) {
     case LinkEvent::Kind::kConnected:
@@ -155,7 +162,7 @@ LinkEvent SimulatedNetwork::deliver(Side side, InFlight& f) {
         end.last_reliable_at = now_;
         enqueue(Side::kJoiner, LinkEvent::Kind::kConnected, Channel::kReliable,
                 now_ + conditions_.delay, 0, f.connection, {});
-        return LinkEvent::connected();
+        return LinkEvent::connected(id);
       }
       if (!connecting_ || f.connection != connection_) {
         return {};  // an abandoned attempt
@@ -164,24 +171,24 @@ LinkEvent SimulatedNetwork::deliver(Side side, InFlight& f) {
       end.connected = true;
       end.connection = f.connection;
       end.last_reliable_at = now_;
-      return LinkEvent::connected();
+      return LinkEvent::connected(id);
     case LinkEvent::Kind::kDisconnected:
       if (side == Side::kJoiner && connecting_ && f.connection == connection_) {
         connecting_ = false;
-        return LinkEvent::disconnected(f.data);
+        return LinkEvent::disconnected(id, f.data);
       }
       if (!current) {
         return {};
       }
       end.connected = false;
-      return LinkEvent::disconnected(f.data);
+      return LinkEvent::disconnected(id, f.data);
     case LinkEvent::Kind::kReceived:
       if (!current) {
         return {};
       }
       ++stats_.delivered;
       end.current.assign(f.bytes.begin(), f.bytes.end());
-      return LinkEvent::received(f.channel, end.current);
+      return LinkEvent::received(id, f.channel, end.current);
     case LinkEvent::Kind::kNone:
       break;
   }

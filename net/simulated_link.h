@@ -3,8 +3,10 @@
 // delay, Gaussian jitter, reordering and duplicates, drawn from a seeded generator on a clock the
 // caller sets (set_time). Unreliable packets (tracking) suffer all of them; reliable packets
 // arrive once and in order, late by a retransmission for each loss, as ENet's would. A partition
-// drops everything until it heals. Used by the conditions matrix, the session tests and demos
-// that want two sites in one process; the session cannot tell it from EnetLink.
+// drops everything until it heals. A connection's PeerId is its attempt number, the same at both
+// ends; a host with a connection turns a second one away (busy), as only one joiner exists here
+// (the many-peer host is tested over real ENet). Used by the conditions matrix, the session tests
+// and demos that want two sites in one process; the session cannot tell it from EnetLink.
 //
 // Fixed capacity: after construction, packets up to kSlotBytes move without allocating.
 
@@ -56,6 +58,9 @@ class SimulatedNetwork {
   void set_partitioned(bool partitioned) { partitioned_ = partitioned; }
   // A packet from outside the session (a test's hostile peer): delivered to `to` after the delay.
   void inject(Side to, Channel channel, std::span<const std::byte> packet);
+  // A disconnect notice from outside (spoofed disconnect data): delivered to `to` as if its peer
+  // had closed the current connection with `code`.
+  void inject_disconnect(Side to, std::uint32_t code);
 
   const SimulatedStats& stats() const { return stats_; }
 
@@ -63,16 +68,21 @@ class SimulatedNetwork {
   class End : public Link {
    public:
     End(SimulatedNetwork& net, Side side) : net_(&net), side_(side) {}
-    bool connect() override { return net_->connect(side_); }
-    void disconnect(std::uint32_t code) override { net_->disconnect(side_, code); }
-    bool send(Channel channel, std::span<const std::byte> packet) override {
-      return net_->send(side_, channel, packet);
+    PeerId connect() override { return net_->connect(side_); }
+    void disconnect(PeerId peer, std::uint32_t code) override {
+      net_->disconnect(side_, peer, code);
+    }
+    bool send(PeerId peer, Channel channel, std::span<const std::byte> packet) override {
+      return net_->send(side_, peer, channel, packet);
     }
     LinkEvent next_event(std::uint32_t) override { return net_->next_event(side_); }
-    std::string_view peer_name() const override {
+    std::string_view peer_name(PeerId) const override {
       return side_ == Side::kHost ? "sim:joiner" : "sim:host";
     }
-    std::uint32_t round_trip_ms() const override;
+    std::uint32_t peer_address(PeerId) const override {
+      return side_ == Side::kHost ? 1u : 2u;  // one address per side
+    }
+    std::uint32_t round_trip_ms(PeerId) const override;
 
    private:
     SimulatedNetwork* net_;
@@ -98,9 +108,9 @@ class SimulatedNetwork {
     std::vector<std::byte> current;  // the packet handed out by next_event()
   };
 
-  bool connect(Side side);
-  void disconnect(Side side, std::uint32_t code);
-  bool send(Side from, Channel channel, std::span<const std::byte> packet);
+  PeerId connect(Side side);
+  void disconnect(Side side, PeerId peer, std::uint32_t code);
+  bool send(Side from, PeerId peer, Channel channel, std::span<const std::byte> packet);
   LinkEvent next_event(Side side);
   void enqueue(Side to, LinkEvent::Kind kind, Channel channel, double at, std::uint32_t data,
                std::uint64_t connection, std::span<const std::byte> bytes);

@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <string_view>
+#include <vector>
+
 #include "net/passphrase.h"
 #include "net/sealing.h"
 
@@ -35,27 +39,131 @@ TEST(Passphrase, KeysDependOnPassphraseSaltAndCost) {
   EXPECT_NE(*a, *other_cost);
 }
 
-TEST(Passphrase, ProofsVerifyOnlyWithTheSameKeyAndChallenges) {
+// Both ends of one handshake: the welcome and join as they would go over the wire, each side's
+// ephemeral key pair, and the handshake secret each side computes.
+struct Handshake {
+  Welcome welcome;
+  Join join;
+  ExchangeKeyPair host_keys = make_exchange_keys();
+  ExchangeKeyPair joiner_keys = make_exchange_keys();
+
+  explicit Handshake(std::uint8_t seed) {
+    welcome.auth = join.auth = AuthMode::kPassphrase;
+    welcome.salt = salt_of(1);
+    welcome.kdf = kCheap;
+    welcome.host_challenge = challenge_of(seed);
+    welcome.host_key = host_keys.public_key;
+    join.joiner_challenge = challenge_of(static_cast<std::uint8_t>(seed + 1));
+    join.joiner_key = joiner_keys.public_key;
+  }
+  Key transcript() const { return transcript_of(welcome, join); }
+  Key host_secret(const Key& master) const {
+    return *handshake_secret(master, transcript(), host_keys, join.joiner_key, true);
+  }
+  Key joiner_secret(const Key& master) const {
+    return *handshake_secret(master, transcript(), joiner_keys, welcome.host_key, false);
+  }
+};
+
+TEST(Passphrase, BothSidesComputeTheSameHandshakeSecretOnlyWithTheSamePassphrase) {
   const Key key = *derive_master_key("pw", salt_of(1), kCheap);
   const Key wrong = *derive_master_key("pW", salt_of(1), kCheap);
-  const Proof p = join_proof(key, salt_of(1), challenge_of(1), challenge_of(2));
-  EXPECT_TRUE(proofs_equal(p, join_proof(key, salt_of(1), challenge_of(1), challenge_of(2))));
-  EXPECT_FALSE(proofs_equal(p, join_proof(wrong, salt_of(1), challenge_of(1), challenge_of(2))));
-  EXPECT_FALSE(proofs_equal(p, join_proof(key, salt_of(1), challenge_of(3), challenge_of(2))));
-  EXPECT_FALSE(proofs_equal(p, join_proof(key, salt_of(1), challenge_of(1), challenge_of(3))));
-  // The host's answer is not the joiner's proof replayed.
-  EXPECT_FALSE(proofs_equal(p, accept_proof(key, salt_of(1), challenge_of(1), challenge_of(2))));
+  const Handshake h(1);
+  EXPECT_EQ(h.host_secret(key), h.joiner_secret(key));
+  EXPECT_NE(h.host_secret(key), h.joiner_secret(wrong));
+  // Forward secrecy: the same passphrase and the same public values, other ephemeral secrets.
+  const Handshake again(1);
+  EXPECT_NE(again.host_secret(key), h.host_secret(key));
 }
 
-TEST(Passphrase, SessionKeysPairUpAndDifferPerDirectionAndConnection) {
+TEST(Passphrase, ProofsOpenOnlyUnderTheSameSecretAndTranscriptAndCarryTheSite) {
   const Key key = *derive_master_key("pw", salt_of(1), kCheap);
-  const SessionKeys host = derive_session_keys(key, challenge_of(1), challenge_of(2), true);
-  const SessionKeys joiner = derive_session_keys(key, challenge_of(1), challenge_of(2), false);
+  const Key wrong = *derive_master_key("pW", salt_of(1), kCheap);
+  const Handshake h(1);
+  const Proof join = seal_join_proof(h.joiner_secret(key), h.transcript(), "site B");
+  EXPECT_EQ(open_join_proof(h.host_secret(key), h.transcript(), join), "site B");
+  EXPECT_FALSE(open_join_proof(h.host_secret(wrong), h.transcript(), join));
+  // Another transcript: another version, cost, challenge or ephemeral key.
+  Handshake other = h;
+  other.welcome.protocol_version = 1;
+  EXPECT_FALSE(open_join_proof(h.host_secret(key), other.transcript(), join));
+  other = h;
+  other.welcome.kdf = KdfCost{2, 8};
+  EXPECT_FALSE(open_join_proof(h.host_secret(key), other.transcript(), join));
+  other = h;
+  other.join.joiner_challenge = challenge_of(9);
+  EXPECT_FALSE(open_join_proof(h.host_secret(key), other.transcript(), join));
+  // The host's answer binds both sites and is not the joiner's proof replayed.
+  const Proof accept = seal_accept_proof(h.host_secret(key), h.transcript(), "site B", "site A");
+  EXPECT_EQ(open_accept_proof(h.joiner_secret(key), h.transcript(), "site B", accept), "site A");
+  EXPECT_FALSE(open_accept_proof(h.joiner_secret(key), h.transcript(), "site C", accept));
+  EXPECT_FALSE(open_join_proof(h.host_secret(key), h.transcript(), accept));
+  EXPECT_FALSE(open_accept_proof(h.joiner_secret(key), h.transcript(), "site B", join));
+  // A flipped bit anywhere fails.
+  Proof tampered = join;
+  tampered[10] ^= std::byte{1};
+  EXPECT_FALSE(open_join_proof(h.host_secret(key), h.transcript(), tampered));
+}
+
+TEST(Passphrase, ProofsHideTheSiteNamesLength) {
+  const Key key = *derive_master_key("pw", salt_of(1), kCheap);
+  const Handshake h(1);
+  // Every proof has the same size whatever the name, and the name is not in it in clear.
+  const Proof a = seal_join_proof(h.joiner_secret(key), h.transcript(), "B");
+  const Proof b = seal_join_proof(h.joiner_secret(key), h.transcript(),
+                                  "a site with a much longer name than the other");
+  EXPECT_EQ(a.size(), b.size());
+  const std::string_view name = "a site with a much longer name";
+  const auto* bytes = reinterpret_cast<const char*>(b.data());
+  EXPECT_EQ(std::string_view(bytes, b.size()).find(name), std::string_view::npos);
+}
+
+TEST(Passphrase, AnUnusableEphemeralKeyIsRefused) {
+  const Key key = *derive_master_key("pw", salt_of(1), kCheap);
+  const Handshake h(1);
+  const ExchangeKey zero{};  // a low-order point: X25519 gives an all-zero secret
+  EXPECT_FALSE(handshake_secret(key, h.transcript(), h.host_keys, zero, true));
+}
+
+TEST(Passphrase, SessionKeysPairUpAndDifferPerDirectionConnectionAndSites) {
+  const Key key = *derive_master_key("pw", salt_of(1), kCheap);
+  const Handshake h(1);
+  const SessionKeys host = derive_session_keys(h.host_secret(key), "B", "A", true);
+  const SessionKeys joiner = derive_session_keys(h.joiner_secret(key), "B", "A", false);
   EXPECT_EQ(host.send, joiner.receive);
   EXPECT_EQ(host.receive, joiner.send);
   EXPECT_NE(host.send, host.receive);
-  const SessionKeys next = derive_session_keys(key, challenge_of(1), challenge_of(9), true);
-  EXPECT_NE(next.send, host.send);
+  const Handshake next(5);
+  EXPECT_NE(derive_session_keys(next.host_secret(key), "B", "A", true).send, host.send);
+  EXPECT_NE(derive_session_keys(h.host_secret(key), "B", "A2", true).send, host.send);
+}
+
+TEST(Padding, ReliablePacketsGrowToTheirBucketAndComeBackWhole) {
+  std::vector<std::byte> out(kMaxPacketBytes);
+  for (const std::size_t n : {std::size_t{1}, std::size_t{5}, std::size_t{63}, std::size_t{64},
+                              std::size_t{200}, std::size_t{24'132}}) {
+    std::vector<std::byte> inner(n, std::byte{0});  // zeros at the end: the hardest case
+    inner[0] = std::byte{0x04};
+    const std::size_t size = pad(inner, out);
+    ASSERT_GT(size, n) << n;
+    EXPECT_NE(std::find(kPaddingBuckets.begin(), kPaddingBuckets.end(), size),
+              kPaddingBuckets.end())
+        << n;
+    const auto back = unpad(std::span(out).first(size));
+    EXPECT_EQ(back.size(), n);
+  }
+  // Two hellos whose names differ in length by up to a bucket look the same.
+  EXPECT_EQ(padded_size(68), padded_size(194));
+  // Broken padding: no marker, a non-zero byte after it, or not a bucket's size.
+  std::vector<std::byte> bad(64, std::byte{0});
+  EXPECT_TRUE(unpad(bad).empty());
+  bad[10] = std::byte{0x80};
+  bad[20] = std::byte{1};
+  EXPECT_TRUE(unpad(bad).empty());
+  std::vector<std::byte> odd(70, std::byte{0});
+  odd[0] = std::byte{4};
+  odd[1] = std::byte{0x80};
+  EXPECT_TRUE(unpad(odd).empty());
 }
 
 struct Pair {

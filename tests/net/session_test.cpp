@@ -132,7 +132,8 @@ TEST(Session, AWrongPassphraseIsRefusedAndLearnsNothing) {
   EXPECT_EQ(pair.joiner.state(), SessionState::kRefused);
   EXPECT_EQ(pair.joiner.status().last_bye, ByeReason::kAuthenticationFailed);
   EXPECT_EQ(pair.host.status().auth_failures, 1u);
-  EXPECT_EQ(pair.host.status().last_end, EndCause::kRefusedPeer);
+  EXPECT_EQ(pair.host.pending(), 0u) << "the stranger was let go";
+  EXPECT_EQ(pair.host.status().streams, 0u);
   EXPECT_EQ(pair.host.state(), SessionState::kWaiting) << "the host listens on";
   EXPECT_EQ(pair.joiner.remote_hello(), nullptr);
   EXPECT_EQ(pair.joiner.remote_target_map(), nullptr);
@@ -273,7 +274,7 @@ TEST(Session, DuplicatedSealedPacketsAreRejectedAsReplays) {
   EXPECT_EQ(pair.host.drops().total, pair.host.drops()[DropReason::kReplayed]);
 }
 
-// The test plays the host by hand: a joiner session meets a host speaking protocol version 2.
+// The test plays the host by hand: a joiner session meets a host speaking protocol version 3.
 TEST(Session, AnotherProtocolVersionIsRefusedWithAReason) {
   SimulatedNetwork network({}, 8);
   Session joiner(network.joiner(), testing::session_config(Role::kJoiner, "B"));
@@ -282,7 +283,7 @@ TEST(Session, AnotherProtocolVersionIsRefusedWithAReason) {
   joiner.start(now);
   std::vector<std::byte> welcome;
   encode(Welcome{}, welcome);
-  welcome[5] = std::byte{2};  // protocol version 2
+  welcome[5] = std::byte{3};  // protocol version 3
   bool got_bye = false;
   for (int i = 0; i < 200 && !got_bye; ++i) {
     now += 0.005;
@@ -290,7 +291,7 @@ TEST(Session, AnotherProtocolVersionIsRefusedWithAReason) {
     for (LinkEvent e = host.next_event(0); e.kind != LinkEvent::Kind::kNone;
          e = host.next_event(0)) {
       if (e.kind == LinkEvent::Kind::kConnected) {
-        host.send(Channel::kReliable, welcome);
+        host.send(e.peer, Channel::kReliable, welcome);
       }
       Bye bye;
       if (e.kind == LinkEvent::Kind::kReceived && decode(e.bytes, bye).ok()) {
@@ -313,7 +314,7 @@ TEST(Session, AHostileJoinerGetsNothingButAWelcomeAndABye) {
   Link& rogue = network.joiner();
   double now = 0.0;
   host.start(now);
-  rogue.connect();
+  const PeerId peer = rogue.connect();
   const Vec3 root = Vec3::Zero();
   std::vector<std::byte> tracking(kTrackingBytes);
   encode_tracking({0, testing::moving_frame(0, root)}, root, tracking);
@@ -327,8 +328,8 @@ TEST(Session, AHostileJoinerGetsNothingButAWelcomeAndABye) {
     for (LinkEvent e = rogue.next_event(0); e.kind != LinkEvent::Kind::kNone;
          e = rogue.next_event(0)) {
       if (e.kind == LinkEvent::Kind::kConnected) {
-        rogue.send(Channel::kTracking, tracking);
-        rogue.send(Channel::kReliable, hello);
+        rogue.send(peer, Channel::kTracking, tracking);
+        rogue.send(peer, Channel::kReliable, hello);
       }
       if (e.kind == LinkEvent::Kind::kReceived) {
         received_types.push_back(std::to_integer<std::uint8_t>(e.bytes[0]));
@@ -338,8 +339,8 @@ TEST(Session, AHostileJoinerGetsNothingButAWelcomeAndABye) {
           join.proof.fill(std::byte{0x42});
           std::vector<std::byte> bytes;
           encode(join, bytes);
-          rogue.send(Channel::kReliable, bytes);
-          rogue.send(Channel::kTracking, tracking);
+          rogue.send(peer, Channel::kReliable, bytes);
+          rogue.send(peer, Channel::kTracking, tracking);
           sent_join = true;
         }
       }
@@ -356,18 +357,29 @@ TEST(Session, AHostileJoinerGetsNothingButAWelcomeAndABye) {
   EXPECT_EQ(host.state(), SessionState::kWaiting);
 }
 
-TEST(Session, AJoinerThatSaysNothingIsDroppedAfterTheHandshakeTimeOut) {
+TEST(Session, AJoinerThatSaysNothingIsLetGoAfterThePendingTimeOut) {
   SimulatedNetwork network({}, 10);
-  Session host(network.host(), testing::session_config(Role::kHost, "A"));
+  const net::SessionConfig config = testing::session_config(Role::kHost, "A");
+  Session host(network.host(), config);
   double now = 0.0;
   host.start(now);
   network.joiner().connect();
-  for (; now < 7.0; now += 0.01) {
+  bool was_pending = false;
+  for (; now < config.pending_timeout - 0.1; now += 0.01) {
+    network.set_time(now);
+    host.service(now);
+    network.joiner().next_event(0);
+    was_pending = was_pending || host.pending() == 1;
+  }
+  EXPECT_TRUE(was_pending);
+  EXPECT_EQ(host.pending(), 1u) << "still within its deadline";
+  for (; now < config.pending_timeout + 0.5; now += 0.01) {
     network.set_time(now);
     host.service(now);
     network.joiner().next_event(0);
   }
-  EXPECT_EQ(host.status().last_end, EndCause::kHandshakeTimedOut);
+  EXPECT_EQ(host.pending(), 0u);
+  EXPECT_EQ(host.strangers().timed_out, 1u);
   EXPECT_EQ(host.state(), SessionState::kWaiting);
 }
 
