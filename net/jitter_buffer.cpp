@@ -114,7 +114,12 @@ void JitterBuffer::drop_old(std::uint32_t sequence, double transit, double arriv
     return;
   }
   ++stats_.late;
-  if (playing_ && at_or_after(sequence, streak_floor_) && ++late_streak_ >= kLateStreak) {
+  // Only a transit near the schedule says that it runs ahead of the frames. One beyond
+  // max_clock_jump is a clock jump, which frames not yet due restart on; taken from late frames it
+  // would move the schedule by up to the whole time range, and every frame in between would come
+  // out as missed at once (2^32 s: 10^11 results).
+  if (playing_ && at_or_after(sequence, streak_floor_) &&
+      std::abs(transit - offset()) <= config_.max_clock_jump && ++late_streak_ >= kLateStreak) {
     // The schedule runs ahead of the frames: start the offset again from where they are.
     ++stats_.offset_resets;
     late_streak_ = 0;
@@ -262,8 +267,18 @@ Playout JitterBuffer::pop(double now) {
     return advance({PlayoutKind::kFrame, next_, &s.frame, waited}, s.frame.time);
   }
   const double sender_time = missed_sender_time();
-  if (now < sender_time + offset() + config_.delay) {
+  const double due = sender_time + offset() + config_.delay;
+  if (now < due) {
     return {PlayoutKind::kPending};
+  }
+  if (now - due > config_.stop_after + config_.max_clock_jump + config_.delay) {
+    // The schedule lags the clock further than a live stream's can (frames arrived with times
+    // from before an earlier arrival: the caller's clock is not monotonic). Making up every
+    // period in between, one missed result each, could take 10^11 results: the stream counts
+    // as stopped instead, and starts again with the next frame.
+    ++stats_.stops;
+    forget();
+    return {};
   }
   ++stats_.missed;
   return advance({PlayoutKind::kMissed, next_, nullptr, 0.0}, sender_time);

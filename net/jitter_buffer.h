@@ -36,7 +36,11 @@
 // every time within 2^32 s, a frame period is far above a double's resolution, so each result
 // moves the schedule on by about a period and a call loop of pop() always ends (a sender time of
 // 1e17 s would freeze the schedule and yield kMissed for ever). The wire carries sender times as
-// 32-bit milliseconds (under 2^22 s).
+// 32-bit milliseconds (under 2^22 s). A call loop of pop() also stays short when the caller's
+// clock is not monotonic: a missing frame overdue by more than stop_after + max_clock_jump +
+// delay (which a live stream on a monotonic clock never is) stops the stream rather than make up
+// every period in between; and late frames whose transit is beyond max_clock_jump from the
+// schedule do not count towards kLateStreak.
 //
 // Fixed capacity, no allocation after construction.
 

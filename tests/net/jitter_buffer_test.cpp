@@ -611,5 +611,51 @@ TEST(JitterBufferSequenceSpace, TimesOutOfRangeAreDroppedAndNeverStallTheSchedul
   expect_each_once_in_order(stream);
 }
 
+TEST(JitterBufferSequenceSpace, LateFramesFarOffTheScheduleDoNotMoveIt) {
+  Stream stream;
+  for (std::uint32_t s = 0; s < 10; ++s) {
+    if (s < 5 || s > 7) {
+      stream.send(s);  // 5, 6 and 7 are lost
+    }
+    stream.tick();
+  }
+  ASSERT_EQ(stream.count(7, PlayoutKind::kMissed), 1u);
+  // They turn up late, stamped 4·10^6 s ahead (in range: the wire's largest time is 2^32 ms).
+  // Taken as a late streak, the schedule would move 4·10^6 s back and every frame of that time
+  // (10^8) would come out as missed at once.
+  for (std::uint32_t s = 5; s < 8; ++s) {
+    stream.buffer.push(s, frame_at_time(s, 4.0e6), stream.now);
+  }
+  EXPECT_EQ(stream.buffer.stats().late, 3u);
+  EXPECT_EQ(stream.buffer.stats().offset_resets, 0u);
+  int results = 0;
+  for (Playout p = stream.buffer.pop(stream.now + kP);
+       results < 1000 && (p.kind == PlayoutKind::kFrame || p.kind == PlayoutKind::kMissed);
+       p = stream.buffer.pop(stream.now + kP)) {
+    ++results;
+  }
+  EXPECT_LE(results, 2) << "one period, about one result";
+}
+
+TEST(JitterBufferSequenceSpace, ACallersClockGoingBackDoesNotMakeUpEveryPeriodSinceThen) {
+  JitterBuffer buffer;
+  // A frame arrives at 10^6 s, the clock goes back, the same frame arrives again at 1 s with
+  // another sender time (a clock jump: a restart), and the next pop is at 10^6 s again: the
+  // schedule is 10^6 s behind, 3·10^7 periods.
+  buffer.push(5, frame_at_time(5, 100.0), 1.0e6);
+  buffer.push(5, frame_at_time(5, 50.0), 1.0);
+  EXPECT_EQ(buffer.stats().restarts, 1u);
+  int results = 0;
+  for (Playout p = buffer.pop(1.0e6 + 0.01);
+       results < 1000 && (p.kind == PlayoutKind::kFrame || p.kind == PlayoutKind::kMissed);
+       p = buffer.pop(1.0e6 + 0.01)) {
+    ++results;
+  }
+  EXPECT_LE(results, 2) << "the frame, then the stream counts as stopped";
+  EXPECT_EQ(buffer.stats().played, 1u);
+  EXPECT_EQ(buffer.stats().stops, 1u);
+  EXPECT_FALSE(buffer.streaming());
+}
+
 }  // namespace
 }  // namespace deixis::net
