@@ -69,6 +69,11 @@ struct CaptureJudgeOptions {
 };
 int run_capture_judge(const CaptureJudgeOptions& options);
 
+// Every command that hosts binds 127.0.0.1 unless --bind says otherwise; beyond loopback it needs
+// a passphrase or --open (app/endpoint.h, docs/security-defaults.md). `passphrase` fields hold
+// the passphrase as main.cpp read it: --passphrase, --passphrase-file, --ask-passphrase or
+// DEIXIS_PASSPHRASE.
+
 // `deixis host` and `deixis join`: one site (docs/demo.md). The site's virtual user performs its
 // script; tracking goes to the other site and the other's avatar is translated into this room
 // and rendered headlessly. Exit 0 after the run, 1 when the session fails (refused, nobody came),
@@ -76,8 +81,8 @@ int run_capture_judge(const CaptureJudgeOptions& options);
 struct SiteRunOptions {
   bool host = true;
   std::filesystem::path site;
-  std::string address = "0.0.0.0";  // host: where to listen; join: the host
-  std::uint16_t port = 7350;        // host: 0 picks a free one (printed as "port N")
+  std::string address = "127.0.0.1";  // host: where to listen (--bind); join: the host
+  std::uint16_t port = 7350;          // host: 0 picks a free one (printed as "port N")
   std::string passphrase;
   double seconds = 0.0;  // 0: as long as the virtual user's script
   double wait = 30.0;    // s to wait for the other site
@@ -133,8 +138,8 @@ struct XrRunOptions {
   bool headless = false;  // XR_MND_headless: no rendering (tests, runtimes without GL)
   bool network = false;   // host or join instead of the local remote person
   bool host = true;
-  std::string address = "0.0.0.0";  // host: where to listen; join: the host
-  std::uint16_t port = 7350;        // host: 0 picks a free one (printed as "port N")
+  std::string address = "127.0.0.1";  // host: where to listen (--bind); join: the host
+  std::uint16_t port = 7350;          // host: 0 picks a free one (printed as "port N")
   std::string passphrase;
   double wait = 30.0;
   std::string hand = "right";  // the headset user's deictic hand
@@ -165,8 +170,8 @@ struct SimOptions {
   int height = 720;
   bool network = false;  // host or join another site
   bool host = true;
-  std::string address = "0.0.0.0";  // host: where to listen; join: the host
-  std::uint16_t port = 7350;        // host: 0 picks a free one (printed as "port N")
+  std::string address = "127.0.0.1";  // host: where to listen (--bind); join: the host
+  std::uint16_t port = 7350;          // host: 0 picks a free one (printed as "port N")
   std::string passphrase;
   double wait = 30.0;  // s for the other site to come
 };

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -14,6 +15,7 @@
 
 #include "app/child_process.h"
 #include "app/commands.h"
+#include "app/endpoint.h"
 #include "gesture/error.h"
 
 namespace deixis::app {
@@ -42,10 +44,7 @@ std::vector<std::string> site_args(const DemoOptions& o, const fs::path& site,
   if (o.seconds > 0.0) {
     args.insert(args.end(), {"--seconds", std::to_string(o.seconds)});
   }
-  if (!o.passphrase.empty()) {
-    args.insert(args.end(), {"--passphrase", o.passphrase});
-  }
-  return args;
+  return args;  // the passphrase goes through the environment (pass_passphrase), never argv
 }
 
 std::string failure(const ChildProcess& child) {
@@ -81,7 +80,18 @@ void wait_for_sites(ChildProcess& host, ChildProcess& join, double timeout) {
   }
 }
 
+// The sites read the passphrase from DEIXIS_PASSPHRASE, which they inherit: on their command
+// lines other users of the machine could read it (ps). Without one, none is inherited either.
+void pass_passphrase(const DemoOptions& o) {
+  const int failed = o.passphrase.empty() ? unsetenv(kPassphraseVariable)
+                                          : setenv(kPassphraseVariable, o.passphrase.c_str(), 1);
+  if (failed != 0) {
+    throw Error(std::string("cannot set ") + kPassphraseVariable + " for the sites");
+  }
+}
+
 void run_sites(const DemoOptions& o, const fs::path& self) {
+  pass_passphrase(o);
   ChildProcess host("site A (host)", self.string(), [&] {
     std::vector<std::string> a = {"host", "--port", "0", "--bind", "127.0.0.1"};
     const auto rest = site_args(o, o.site_a, o.out_dir / "A");

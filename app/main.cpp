@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <array>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -76,9 +77,6 @@ void add_site_flags(CLI::App* cmd, deixis::app::SiteRunOptions& o) {
   cmd->add_option("--site", o.site, "Site configuration (JSON, docs/site-config.md)")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("--passphrase", o.passphrase,
-                  "Shared passphrase: peers without it are refused and everything after the "
-                  "handshake is encrypted (both sites must use the same)");
   cmd->add_option("--seconds", o.seconds,
                   "How long to stream, from when the sites connect (default: the virtual user's "
                   "script)")
@@ -99,13 +97,109 @@ void add_site_flags(CLI::App* cmd, deixis::app::SiteRunOptions& o) {
       "--no-video", [&o] { o.video = false; }, "Do not render (no EGL context, no ffmpeg)");
 }
 
+// ---- The passphrase and who may reach a host (docs/security-defaults.md) ----
+
+// Where a command's passphrase comes from: one of --passphrase TEXT, --passphrase-file FILE and
+// --ask-passphrase, else the DEIXIS_PASSPHRASE environment variable. --open: host beyond loopback
+// without one, knowingly.
+struct PassphraseFlags {
+  std::string text;
+  std::string file;
+  bool ask = false;
+  bool open = false;
+  CLI::Option* text_option = nullptr;
+};
+
+// The same passphrase options for every command that takes one (host, join, demo, sim, xr);
+// `host`: the command's --host flag (sim, xr), which --open needs; `hosts`: whether the command
+// can host at all (--open is offered only then).
+void add_passphrase_flags(CLI::App* cmd, PassphraseFlags& f, bool hosts,
+                          CLI::Option* host = nullptr) {
+  f.text_option = cmd->add_option(
+      "--passphrase", f.text,
+      "The session's passphrase (both sites give the same; peers without it are refused and "
+      "everything after the handshake is encrypted). On the command line other users of this "
+      "machine can read it (ps): prefer DEIXIS_PASSPHRASE, --passphrase-file or "
+      "--ask-passphrase. Without any of the three flags, DEIXIS_PASSPHRASE is used if set");
+  CLI::Option* file = cmd->add_option("--passphrase-file", f.file,
+                                      "Read the passphrase from the first line of FILE (keep it "
+                                      "private: chmod 600)");
+  CLI::Option* ask = cmd->add_flag("--ask-passphrase", f.ask,
+                                   "Ask for the passphrase on the terminal, not echoed");
+  f.text_option->excludes(file)->excludes(ask);
+  file->excludes(ask);
+  if (hosts) {
+    CLI::Option* open = cmd->add_flag(
+        "--open", f.open,
+        "Host without a passphrase although --bind reaches beyond this machine (anything but "
+        "127.x.x.x, e.g. 0.0.0.0): anyone who can reach the port can join and read this site's "
+        "motion. Without a passphrase and without --open, such a host exits 2");
+    if (host != nullptr) {
+      open->needs(host);
+    }
+  }
+}
+
+// The passphrase `f` gives (empty: none) into `passphrase`. False after saying why when it cannot
+// be read: the command exits 2.
+bool read_passphrase(const char* command, const PassphraseFlags& f, std::string& passphrase) {
+  passphrase.clear();
+  if (f.text_option->count() > 0) {
+    passphrase = f.text;
+    if (!passphrase.empty()) {
+      std::fprintf(stderr,
+                   "deixis %s: warning: a passphrase given with --passphrase can be read by other "
+                   "users of this machine (ps, /proc); prefer %s, --passphrase-file or "
+                   "--ask-passphrase\n",
+                   command, deixis::app::kPassphraseVariable);
+    }
+    return true;
+  }
+  std::string problem;
+  if (!f.file.empty()) {
+    std::string warning;
+    problem = deixis::app::read_passphrase_file(f.file, passphrase, warning);
+    if (problem.empty() && !warning.empty()) {
+      std::fprintf(stderr, "deixis %s: %s\n", command, warning.c_str());
+    }
+  } else if (f.ask) {
+    problem = deixis::app::ask_passphrase("deixis " + std::string(command) + ": passphrase: ",
+                                          passphrase);
+  } else if (const char* env = std::getenv(deixis::app::kPassphraseVariable)) {
+    passphrase = env;
+  }
+  if (!problem.empty()) {
+    std::fprintf(stderr, "deixis %s: %s\n", command, problem.c_str());
+    return false;
+  }
+  return true;
+}
+
+// A host's start: beyond loopback without a passphrase it needs --open (else false after saying
+// what to do: the command exits 2); an open session is announced with a warning. Sets the
+// process-wide permission that SiteSession checks again below the command line.
+bool may_host(const char* command, const PassphraseFlags& f, const std::string& address,
+              const std::string& passphrase) {
+  deixis::app::allow_open_sessions(f.open);
+  const std::string problem = deixis::app::host_exposure_problem(address, !passphrase.empty());
+  if (!problem.empty()) {
+    std::fprintf(stderr, "deixis %s: %s\n", command, problem.c_str());
+    return false;
+  }
+  if (f.open && passphrase.empty()) {
+    std::fprintf(stderr, "deixis %s: %s\n", command,
+                 deixis::app::open_session_warning(address).c_str());
+  }
+  return true;
+}
+
 }  // namespace
 
 // A live user's site on the network (`deixis xr`, `deixis sim`): --host, or --join HOST:PORT,
-// with --port/--bind for a host, --passphrase and --wait. `Options` has network, host, address,
-// port, passphrase and wait. Returns --host and --join, for flags that exclude networking.
+// with --port/--bind for a host, the passphrase flags and --wait. `Options` has network, host,
+// address, port and wait. Returns --host and --join, for flags that exclude networking.
 template <class Options>
-std::array<CLI::Option*, 2> add_network_flags(CLI::App* cmd, Options& o,
+std::array<CLI::Option*, 2> add_network_flags(CLI::App* cmd, Options& o, PassphraseFlags& pass,
                                               const std::string& host_help) {
   CLI::Option* host = cmd->add_flag(
       "--host", [&o](std::int64_t) { o.network = o.host = true; }, host_help);
@@ -120,10 +214,12 @@ std::array<CLI::Option*, 2> add_network_flags(CLI::App* cmd, Options& o,
   cmd->add_option("--port", o.port, "With --host: UDP port (0: any free port)")
       ->capture_default_str()
       ->needs(host);
-  cmd->add_option("--bind", o.address, "With --host: address to listen on")
+  cmd->add_option("--bind", o.address,
+                  "With --host: address to listen on (beyond 127.x.x.x: needs a passphrase or "
+                  "--open)")
       ->capture_default_str()
       ->needs(host);
-  cmd->add_option("--passphrase", o.passphrase, "The session's passphrase (both sites)");
+  add_passphrase_flags(cmd, pass, true, host);
   cmd->add_option("--wait", o.wait, "Seconds to wait for the other site")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 3600.0));
@@ -287,7 +383,13 @@ int main(int argc, char** argv) {
   add_site_flags(host_cmd, host);
   host_cmd->add_option("--port", host.port, "UDP port to listen on (0: any free port)")
       ->capture_default_str();
-  host_cmd->add_option("--bind", host.address, "Address to listen on")->capture_default_str();
+  host_cmd
+      ->add_option("--bind", host.address,
+                   "Address to listen on (beyond 127.x.x.x, e.g. 0.0.0.0: needs a passphrase or "
+                   "--open)")
+      ->capture_default_str();
+  PassphraseFlags host_pass;
+  add_passphrase_flags(host_cmd, host_pass, true);
 
   deixis::app::SiteRunOptions join;
   join.host = false;
@@ -298,6 +400,8 @@ int main(int argc, char** argv) {
       "Run a site that joins a host (as host does otherwise); exit 1 if the host refuses or "
       "cannot be reached, 2 for bad flags or files");
   add_site_flags(join_cmd, join);
+  PassphraseFlags join_pass;
+  add_passphrase_flags(join_cmd, join_pass, false);
   add_endpoint_option(
       join_cmd, "--connect", join.address, join.port, [] {}, "The host, HOST:PORT")
       ->required();
@@ -318,7 +422,8 @@ int main(int argc, char** argv) {
   demo_cmd->add_option("--site-b", demo.site_b, "Site B (joins A)")->check(CLI::ExistingFile);
   demo_cmd->add_option("--weights-dir", demo.weights_dir, "As for host and join")
       ->check(CLI::ExistingDirectory);
-  demo_cmd->add_option("--passphrase", demo.passphrase, "A passphrase for the session");
+  PassphraseFlags demo_pass;
+  add_passphrase_flags(demo_cmd, demo_pass, false);
   demo_cmd->add_option("--timeout", demo.timeout, "Seconds before a site process is given up on")
       ->capture_default_str()
       ->check(CLI::Range(5.0, 3600.0));
@@ -355,7 +460,8 @@ int main(int argc, char** argv) {
   add_weights_dir_flag(xr_cmd, xr.weights_dir);
   xr_cmd->add_flag("--headless", xr.headless,
                    "XR_MND_headless: a session without graphics (nothing is rendered)");
-  add_network_flags(xr_cmd, xr,
+  PassphraseFlags xr_pass;
+  add_network_flags(xr_cmd, xr, xr_pass,
                     "Host a session others join (prints \"port N\" once the user is calibrated)");
   xr_cmd->add_option("--hand", xr.hand, "The headset user's pointing hand")
       ->capture_default_str()
@@ -423,8 +529,10 @@ int main(int argc, char** argv) {
   sim_cmd->add_option("--height", sim.height, "Window height")
       ->capture_default_str()
       ->check(CLI::Range(240, 4320));
-  for (CLI::Option* network : add_network_flags(
-           sim_cmd, sim, "Be site A of a session others join (prints \"port N\" at once)")) {
+  PassphraseFlags sim_pass;
+  for (CLI::Option* network :
+       add_network_flags(sim_cmd, sim, sim_pass,
+                         "Be site A of a session others join (prints \"port N\" at once)")) {
     fixed_step->excludes(network);
   }
 
@@ -499,18 +607,36 @@ int main(int argc, char** argv) {
     return deixis::app::run_capture_csv(capture_csv);
   }
   if (host_cmd->parsed()) {
+    if (!read_passphrase("host", host_pass, host.passphrase) ||
+        !may_host("host", host_pass, host.address, host.passphrase)) {
+      return 2;
+    }
     return deixis::app::run_site(host);
   }
   if (join_cmd->parsed()) {
+    if (!read_passphrase("join", join_pass, join.passphrase)) {
+      return 2;
+    }
     return deixis::app::run_site(join);
   }
   if (demo_cmd->parsed()) {
+    if (!read_passphrase("demo", demo_pass, demo.passphrase)) {
+      return 2;
+    }
     return deixis::app::run_demo(demo);
   }
   if (xr_cmd->parsed()) {
+    if (!read_passphrase("xr", xr_pass, xr.passphrase) ||
+        (xr.network && xr.host && !may_host("xr", xr_pass, xr.address, xr.passphrase))) {
+      return 2;
+    }
     return deixis::app::run_xr(xr);
   }
   if (sim_cmd->parsed()) {
+    if (!read_passphrase("sim", sim_pass, sim.passphrase) ||
+        (sim.network && sim.host && !may_host("sim", sim_pass, sim.address, sim.passphrase))) {
+      return 2;
+    }
     return deixis::app::run_sim(sim);
   }
   if (eval_cmd->parsed()) {

@@ -81,6 +81,14 @@ FormSession form_session(const NetworkForm& form) {
   if (s.options) {
     s.options->passphrase = form.passphrase.data();
     s.options->wait = form.wait;
+    // The rule of every host (SiteSession checks it again): said under the form before trying.
+    const std::string problem =
+        form.host ? host_exposure_problem(s.options->address, !s.options->passphrase.empty())
+                  : std::string();
+    if (!problem.empty()) {
+      s.options.reset();
+      s.problem = "Host: " + problem;
+    }
   }
   return s;
 }

@@ -3,6 +3,7 @@
 #include <string>
 #include <utility>
 
+#include "app/endpoint.h"
 #include "gesture/error.h"
 
 namespace deixis::app {
@@ -16,9 +17,11 @@ std::string refusal_message(const net::PeerStatus& status, net::Role role) {
   if (status.last_bye == net::ByeReason::kAuthenticationFailed) {
     hint = " (the passphrases differ)";
   } else if (status.last_bye == net::ByeReason::kPassphraseRequired) {
-    hint = " (the host needs --passphrase)";
+    hint = " (the host needs a passphrase: " + std::string(kPassphraseVariable) +
+           ", --passphrase-file or --ask-passphrase)";
   } else if (status.last_bye == net::ByeReason::kPassphraseUnexpected) {
-    hint = " (the host has no passphrase; leave out --passphrase)";
+    hint = " (the host has no passphrase; leave it out, and unset " +
+           std::string(kPassphraseVariable) + ")";
   }
   return who + ": " + reason + hint;
 }
@@ -27,6 +30,14 @@ std::string refusal_message(const net::PeerStatus& status, net::Role role) {
 
 SiteSession::SiteSession(const SiteSessionOptions& options, net::Hello hello, TargetMap map)
     : options_(options) {
+  if (options.role == net::Role::kHost) {
+    // Below every command line and the simulator's panel: no host goes beyond loopback
+    // unprotected unless the person asked for it (--open).
+    const std::string problem = host_exposure_problem(options.address, !options.passphrase.empty());
+    if (!problem.empty()) {
+      throw Error(problem);
+    }
+  }
   link_ = options.role == net::Role::kHost ? net::EnetLink::host(options.address, options.port)
                                            : net::EnetLink::join(options.address, options.port);
   net::SessionConfig config;

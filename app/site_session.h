@@ -34,8 +34,9 @@ struct SiteSessionOptions {
 
 class SiteSession {
  public:
-  // Throws deixis::Error when the port cannot be bound, the address does not resolve, or the
-  // hello or target map break a wire rule.
+  // Throws deixis::Error when the port cannot be bound, the address does not resolve, the hello
+  // or target map break a wire rule, or a host would listen beyond loopback without a passphrase
+  // and open sessions were not allowed (app/endpoint.h, host_exposure_problem).
   SiteSession(const SiteSessionOptions& options, net::Hello hello, TargetMap map);
   ~SiteSession();
   SiteSession(const SiteSession&) = delete;

@@ -3,14 +3,20 @@
 // person (the pointing error at the remote completion state beats copying the pose); a wrong
 // passphrase is refused; bad flags and files exit 2 naming what is wrong; a short demo writes a
 // well-formed summary.json, a video and a contact sheet. Hosts listen on port 0 and print the
-// port, so no test guesses a free port.
+// port, so no test guesses a free port. Safe defaults (docs/security-defaults.md): a host binds
+// 127.0.0.1 unless --bind says otherwise, and beyond loopback it needs a passphrase or --open;
+// the passphrase comes from DEIXIS_PASSPHRASE, --passphrase-file or (with a warning) --passphrase.
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -37,6 +43,67 @@ std::vector<std::string> site_flags(const char* site_file, const fs::path& out,
           "--weights-dir", weights_dir(),
           "--seconds",     seconds,
           "--wait",        wait};
+}
+
+// DEIXIS_PASSPHRASE as the children inherit it, for one scope (unset when `value` is empty);
+// restored after. No test depends on the variable of the environment ctest runs in.
+class ScopedPassphrase {
+ public:
+  explicit ScopedPassphrase(const std::string& value) {
+    if (const char* old = std::getenv("DEIXIS_PASSPHRASE")) {
+      saved_ = old;
+    }
+    set(value);
+  }
+  ~ScopedPassphrase() { set(saved_.value_or("")); }
+  ScopedPassphrase(const ScopedPassphrase&) = delete;
+  ScopedPassphrase& operator=(const ScopedPassphrase&) = delete;
+  static void set(const std::string& value) {
+    if (value.empty()) {
+      unsetenv("DEIXIS_PASSPHRASE");
+    } else {
+      setenv("DEIXIS_PASSPHRASE", value.c_str(), 1);
+    }
+  }
+
+ private:
+  std::optional<std::string> saved_;
+};
+
+// Every test starts without DEIXIS_PASSPHRASE.
+class NoPassphraseInTheEnvironment : public ::testing::Environment {
+ public:
+  void SetUp() override { unsetenv("DEIXIS_PASSPHRASE"); }
+};
+const auto* const no_passphrase_environment =
+    ::testing::AddGlobalTestEnvironment(new NoPassphraseInTheEnvironment);
+
+// Whether a UDP socket of this machine is bound to `address` (as /proc/net/udp writes it: the
+// IPv4 address in hex, host byte order) and `port`.
+bool udp_bound(const char* address, int port) {
+  std::ifstream in("/proc/net/udp");
+  char wanted[32];
+  std::snprintf(wanted, sizeof wanted, "%s:%04X", address, static_cast<unsigned>(port));
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string slot;
+    std::string local;
+    fields >> slot >> local;
+    if (local == wanted) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// A passphrase file with `text` and `mode`.
+fs::path passphrase_file(const fs::path& dir, const char* name, const std::string& text,
+                         mode_t mode = 0600) {
+  const fs::path path = dir / name;
+  std::ofstream(path) << text;
+  chmod(path.c_str(), mode);
+  return path;
 }
 
 double sum_of_angles(const json& pointing, const char* who) {
@@ -104,6 +171,139 @@ TEST(DeixisSites, AWrongPassphraseIsRefused) {
   EXPECT_FALSE(fs::exists(dir.path() / "A/session.json"));
 }
 
+TEST(DeixisSafeDefaults, AHostBindsLoopbackAndTheEnvironmentOrAFileGivesThePassphrase) {
+  // No --bind: the host listens on 127.0.0.1 only. Its passphrase comes from DEIXIS_PASSPHRASE,
+  // the joiner's from a file; they match, so the joiner gets in and the session is sealed.
+  deixis::testing::ScratchDir dir;
+  const fs::path file = passphrase_file(dir.path(), "pass", "blue whale\n");
+  std::optional<Deixis> host;
+  {
+    const ScopedPassphrase env("blue whale");
+    host.emplace(std::vector<std::string>{"host", "--port", "0", "--no-video"} +
+                 site_flags("a.json", dir.path() / "A", "1", "10"));
+  }
+  const int port = host->port();
+  ASSERT_GT(port, 0) << host->err();
+  EXPECT_TRUE(udp_bound("0100007F", port)) << "bound to 127.0.0.1:" << port;
+  EXPECT_FALSE(udp_bound("00000000", port)) << "not to every interface";
+  Deixis join(std::vector<std::string>{"join", "--connect", "127.0.0.1:" + std::to_string(port),
+                                       "--no-video", "--passphrase-file", file.string()} +
+              site_flags("b.json", dir.path() / "B", "1"));
+  ASSERT_EQ(join.wait(), 0) << join.err();
+  ASSERT_EQ(host->wait(), 0) << host->err();
+  for (const char* name : {"A", "B"}) {
+    EXPECT_TRUE(read_json(dir.path() / name / "session.json")["network"]["sealed"].get<bool>())
+        << name;
+  }
+  EXPECT_EQ(join.err().find("warning"), std::string::npos) << join.err();
+  EXPECT_EQ(host->err().find("warning"), std::string::npos) << host->err();
+}
+
+TEST(DeixisSafeDefaults, AWrongPassphraseFromTheEnvironmentIsRefused) {
+  deixis::testing::ScratchDir dir;
+  const fs::path file = passphrase_file(dir.path(), "pass", "blue whale\r\nsecond line\n");
+  Deixis host(std::vector<std::string>{"host", "--port", "0", "--no-video", "--passphrase-file",
+                                       file.string()} +
+              site_flags("a.json", dir.path() / "A", "1", "4"));
+  const int port = host.port();
+  ASSERT_GT(port, 0) << host.err();
+  const ScopedPassphrase env("green whale");
+  Deixis join(std::vector<std::string>{"join", "--connect", "127.0.0.1:" + std::to_string(port),
+                                       "--no-video"} +
+              site_flags("b.json", dir.path() / "B", "1"));
+  EXPECT_EQ(join.wait(), 1);
+  EXPECT_NE(join.err().find("refused this site: wrong passphrase"), std::string::npos)
+      << join.err();
+  EXPECT_EQ(host.wait(), 1);
+  EXPECT_NE(host.err().find("wrong passphrase"), std::string::npos) << host.err();
+}
+
+TEST(DeixisSafeDefaults, BeyondLoopbackAHostNeedsAPassphraseOrOpen) {
+  deixis::testing::ScratchDir dir;
+  const std::vector<std::string> a = site_flags("a.json", dir.path() / "A", "1", "1");
+  // Without a passphrase: exit 2 at once, saying what to do.
+  for (const char* bind : {"0.0.0.0", "192.0.2.1"}) {
+    Deixis host(std::vector<std::string>{"host", "--port", "0", "--no-video", "--bind", bind} + a);
+    EXPECT_EQ(host.wait(), 2) << host.err();
+    for (const char* says : {"reaches beyond this machine", "DEIXIS_PASSPHRASE",
+                             "--passphrase-file", "--ask-passphrase", "--open"}) {
+      EXPECT_NE(host.err().find(says), std::string::npos) << says << "\n" << host.err();
+    }
+    EXPECT_EQ(host.out().find("port "), std::string::npos) << "never listened";
+  }
+  {
+    // `xr --host` and `sim --host` are held to the same rule before anything starts.
+    Deixis xr({"xr", "--host", "--headless", "--port", "0", "--bind", "0.0.0.0"});
+    EXPECT_EQ(xr.wait(), 2) << xr.err();
+    EXPECT_NE(xr.err().find("--open"), std::string::npos) << xr.err();
+    Deixis sim({"sim", "--host", "--port", "0", "--bind", "0.0.0.0", "--frames", "1"});
+    EXPECT_EQ(sim.wait(), 2) << sim.err();
+    EXPECT_NE(sim.err().find("--open"), std::string::npos) << sim.err();
+  }
+  {
+    // With --open it starts, warning that anyone who reaches the port can read the motion
+    // (nobody joins: exit 1 after --wait 1).
+    Deixis host(std::vector<std::string>{"host", "--port", "0", "--no-video", "--bind", "0.0.0.0",
+                                         "--open"} +
+                a);
+    EXPECT_GT(host.port(), 0) << host.err();
+    EXPECT_EQ(host.wait(), 1) << host.err();
+    EXPECT_NE(host.err().find("warning: an open session"), std::string::npos) << host.err();
+    EXPECT_NE(host.err().find("anyone who can reach the port"), std::string::npos) << host.err();
+  }
+  {
+    // A passphrase from the environment is enough.
+    const ScopedPassphrase env("blue whale");
+    Deixis host(std::vector<std::string>{"host", "--port", "0", "--no-video", "--bind", "0.0.0.0"} +
+                a);
+    EXPECT_GT(host.port(), 0) << host.err();
+    EXPECT_EQ(host.wait(), 1) << host.err();
+    EXPECT_EQ(host.err().find("warning"), std::string::npos) << host.err();
+  }
+}
+
+TEST(DeixisSafeDefaults, PassphraseInputIsCheckedAndTheCommandLineOneWarns) {
+  deixis::testing::ScratchDir dir;
+  const std::vector<std::string> a = site_flags("a.json", dir.path() / "A", "1", "1");
+  const std::vector<std::string> host = {"host", "--port", "0", "--no-video"};
+  {
+    Deixis d(host + std::vector<std::string>{"--passphrase", "blue whale"} + a);
+    EXPECT_GT(d.port(), 0) << d.err();
+    EXPECT_EQ(d.wait(), 1) << d.err();  // nobody joined
+    EXPECT_NE(d.err().find("warning: a passphrase given with --passphrase can be read by other "
+                           "users"),
+              std::string::npos)
+        << d.err();
+  }
+  {
+    // A file other users may read: used, with a warning.
+    const fs::path open_file = passphrase_file(dir.path(), "open", "blue whale\n", 0644);
+    Deixis d(host + std::vector<std::string>{"--passphrase-file", open_file.string()} + a);
+    EXPECT_GT(d.port(), 0) << d.err();
+    EXPECT_EQ(d.wait(), 1) << d.err();
+    EXPECT_NE(d.err().find("is open to other users (mode 0644)"), std::string::npos) << d.err();
+  }
+  const fs::path empty = passphrase_file(dir.path(), "empty", "");
+  const fs::path blank = passphrase_file(dir.path(), "blank", "\nblue whale\n");
+  const std::vector<BadInput> cases = {
+      {host + std::vector<std::string>{"--passphrase-file", empty.string()} + a,
+       "first line is empty"},
+      {host + std::vector<std::string>{"--passphrase-file", blank.string()} + a,
+       "first line is empty"},
+      {host + std::vector<std::string>{"--passphrase-file", (dir.path() / "none").string()} + a,
+       "cannot read the passphrase file"},
+      {std::vector<std::string>{"join", "--connect", "127.0.0.1:7350", "--passphrase-file",
+                                (dir.path() / "none").string()} +
+           a,
+       "cannot read the passphrase file"},
+      {host + std::vector<std::string>{"--passphrase", "x", "--passphrase-file", empty.string()} +
+           a,
+       "excludes"},
+      {std::vector<std::string>{"join", "--connect", "127.0.0.1:7350", "--open"} + a, "--open"},
+  };
+  expect_refused(cases);
+}
+
 TEST(DeixisSites, BadFlagsAndFilesExit2NamingWhatIsWrong) {
   deixis::testing::ScratchDir dir;
   const fs::path bad_site = dir.path() / "bad.json";
@@ -143,6 +343,11 @@ TEST(DeixisSites, HelpOfEveryCommandExits0) {
     Deixis d({command, "--help"});
     EXPECT_EQ(d.wait(), 0) << command;
     EXPECT_NE(d.out().find("--seconds"), std::string::npos) << command << d.out();
+    for (const char* flag : {"--passphrase-file", "--ask-passphrase", "DEIXIS_PASSPHRASE"}) {
+      EXPECT_NE(d.out().find(flag), std::string::npos) << command << " " << flag;
+    }
+    EXPECT_EQ(d.out().find("--open") != std::string::npos, std::string(command) == "host")
+        << command;
   }
 }
 
