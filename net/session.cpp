@@ -252,6 +252,7 @@ void Session::timers(double now) {
 void Session::attempt(double now) {
   ++status_.attempts;
   peer_ = link_.connect();
+  label_peer(peer_);
   if (peer_ == kNoPeer) {
     end_connection(EndCause::kConnectFailed, now);
     return;
@@ -370,8 +371,16 @@ void Session::send_hello_and_map() {
 
 // ---------------------------------------------------------------- transitions
 
+void Session::label_peer(PeerId peer) {
+  const std::string_view name = link_.peer_name(peer);
+  const std::size_t n = std::min(name.size(), peer_label_.size() - 1);
+  std::copy_n(name.begin(), n, peer_label_.begin());
+  peer_label_[n] = '\0';
+}
+
 void Session::begin_connection(PeerId peer, double now) {
   peer_ = peer;
+  label_peer(peer);
   status_.state = SessionState::kHandshake;
   status_.last_heard = now;
   deadline_ = now + config_.handshake_timeout;
@@ -538,6 +547,12 @@ void Session::on_stranger(PeerId peer, double now) {
     return;
   }
   const std::uint32_t address = link_.peer_address(peer);
+  if (held_back(address, now)) {
+    // An address backing off after failed proofs costs us no welcome (and no key pair).
+    ++strangers_.held_back;
+    link_.disconnect(peer, static_cast<std::uint32_t>(ByeReason::kTryLater));
+    return;
+  }
   if (pending_from(address) >= config_.max_pending_per_address) {
     ++strangers_.over_budget;
     warn_limited(now, "turning away " + std::string(link_.peer_name(peer)) +
@@ -600,6 +615,15 @@ void Session::on_stranger_packet(Pending& p, Channel channel, std::span<const st
   }
   p.join = join;
   verify_join(p, now);
+}
+
+bool Session::held_back(std::uint32_t address, double now) const {
+  for (const AddressRecord& r : addresses_) {
+    if (r.failures > 0 && r.address == address) {
+      return now < r.blocked_until;
+    }
+  }
+  return false;
 }
 
 Session::AddressRecord& Session::record_of(std::uint32_t address, double now) {

@@ -232,7 +232,8 @@ class Session {
   bool connected() const;
   bool serving() const;  // host: a peer past its handshake
   spdlog::logger& log() const;
-  std::string_view peer_name() const { return link_.peer_name(peer_); }
+  // The peer's address, kept from when its connection began (the link forgets a peer it lost).
+  std::string_view peer_name() const { return peer_label_.data(); }
 
   // Link events.
   void on_event(const LinkEvent& e, double now);
@@ -255,6 +256,7 @@ class Session {
   std::size_t pending_from(std::uint32_t address) const;
   void evict_one(double now);
   AddressRecord& record_of(std::uint32_t address, double now);
+  bool held_back(std::uint32_t address, double now) const;
   void failed_proof(std::uint32_t address, double now);
   const HostKey* host_key_for(const Salt& salt) const;
   void host_key_timers(double now);
@@ -269,6 +271,7 @@ class Session {
   void on_tracking(Channel channel, std::span<const std::byte> packet, double now);
 
   // Transitions.
+  void label_peer(PeerId peer);
   void begin_connection(PeerId peer, double now);
   void authenticated(const Key& prk, std::string_view joiner_site, std::string_view host_site);
   void enter_hello(double now);
@@ -309,6 +312,7 @@ class Session {
 
   // This connection (the served peer, or the joiner's attempt).
   PeerId peer_ = kNoPeer;
+  std::array<char, 64> peer_label_{};
   Welcome welcome_;                               // joiner: the host's welcome
   Join welcome_join_;                             // joiner: our answer to it
   std::optional<ExchangeKeyPair> exchange_keys_;  // joiner: ours

@@ -6,7 +6,7 @@
 //
 //   net_peer --role host|join|rogue|storm|hammer|garbage --site A --peer-site B [--port N]
 //            [--passphrase P] [--kdf cheap|interactive|weak] [--frames N] [--rate HZ]
-//            [--until streamed|refused|streams2|stream-with SITE|deadline] [--map-every S]
+//            [--until streamed|refused|streams2|stream-with:SITE|cut|deadline] [--map-every S]
 //            [--deadline S] [--local ADDRESS] [--count N] [--drop-with CODE]
 //
 // --role rogue: a joiner that ignores the protocol: it sends tracking and a hello before any
@@ -249,6 +249,11 @@ int run_session(const Options& o) {
     }
     const double until_tick = std::max(0.0, next_tick - now);
     session.service(now, static_cast<std::uint32_t>(std::min(5.0, 1000.0 * until_tick)));
+    if (session.status().streams > streams_seen) {
+      streams_seen = session.status().streams;
+      r.last = -1;  // a new connection numbers its frames from 0
+      sent = 0;     // and this side sends its frames afresh
+    }
     if (session.state() == SessionState::kStreaming) {
       if (streaming_since < 0.0) {
         streaming_since = now;
@@ -285,10 +290,6 @@ int run_session(const Options& o) {
     } else {
       streaming_since = -1.0;
     }
-    if (session.status().streams > streams_seen) {
-      streams_seen = session.status().streams;
-      r.last = -1;  // a new connection numbers its frames from 0
-    }
     for (Playout p = session.next_frame(now);
          p.kind == PlayoutKind::kFrame || p.kind == PlayoutKind::kMissed;
          p = session.next_frame(now)) {
@@ -323,7 +324,7 @@ int run_session(const Options& o) {
         break;  // watched what the refused peer sends afterwards
       }
     } else if (o.until == "streams2") {
-      if (played_in_second_stream >= 15) {
+      if (played_in_second_stream >= 15 && !(role == Role::kHost && o.drop_with != 0)) {
         break;
       }
       if (role == Role::kHost && o.drop_with == 0 && sent >= o.frames) {
@@ -336,6 +337,10 @@ int run_session(const Options& o) {
     } else if (o.until == "stream-with") {
       if (saw_site && session.state() != SessionState::kStreaming) {
         break;  // the peer we waited for streamed with us and left
+      }
+    } else if (o.until == "cut") {
+      if (session.status().last_bye == ByeReason::kFlooding) {
+        break;  // the peer cut us off for sending too much
       }
     } else if (o.until == "deadline") {
       if (now > o.deadline - 0.1) {
@@ -519,6 +524,8 @@ int run_hammer(const Options& o) {
       Welcome welcome;
       Bye bye;
       if (e.kind == LinkEvent::Kind::kDisconnected) {
+        // Turned away at once while the address backs off: ENet's disconnect data says so.
+        held_back += e.data == static_cast<std::uint32_t>(ByeReason::kTryLater) ? 1 : 0;
         peer = link->connect();
       } else if (e.kind == LinkEvent::Kind::kReceived && decode(e.bytes, welcome).ok()) {
         if (!key || salt != welcome.salt || !(cost == welcome.kdf)) {
