@@ -9,7 +9,11 @@
 
 #include <gtest/gtest.h>
 
+#include <poll.h>
+#include <pty.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -302,6 +306,54 @@ TEST(DeixisSafeDefaults, PassphraseInputIsCheckedAndTheCommandLineOneWarns) {
       {std::vector<std::string>{"join", "--connect", "127.0.0.1:7350", "--open"} + a, "--open"},
   };
   expect_refused(cases);
+}
+
+TEST(DeixisSafeDefaults, AskPassphrasePromptsOnTheTerminalWithoutEcho) {
+  // `deixis host --ask-passphrase` on a pseudo-terminal of its own (its controlling terminal):
+  // it asks, the answer is not echoed, and with it the host may bind beyond loopback.
+  deixis::testing::ScratchDir dir;
+  std::vector<std::string> args = {DEIXIS_EXE,         "host",   "--port", "0", "--no-video",
+                                   "--ask-passphrase", "--bind", "0.0.0.0"};
+  args = args + site_flags("a.json", dir.path() / "A", "1", "1");
+  std::vector<char*> argv;
+  for (std::string& a : args) {
+    argv.push_back(a.data());
+  }
+  argv.push_back(nullptr);
+  int terminal = -1;
+  const pid_t pid = forkpty(&terminal, nullptr, nullptr, nullptr);
+  ASSERT_GE(pid, 0) << "forkpty";
+  if (pid == 0) {
+    execv(DEIXIS_EXE, argv.data());
+    _exit(127);
+  }
+  std::string seen;
+  const auto read_until = [&](const std::string& text, double seconds) {
+    const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+    while (seen.find(text) == std::string::npos && Clock::now() < end) {
+      pollfd p{terminal, POLLIN, 0};
+      if (::poll(&p, 1, 100) > 0) {
+        char buffer[1024];
+        const ssize_t got = read(terminal, buffer, sizeof buffer);
+        if (got <= 0) {
+          return;
+        }
+        seen.append(buffer, static_cast<std::size_t>(got));
+      }
+    }
+  };
+  read_until("passphrase: ", 20.0);
+  EXPECT_NE(seen.find("deixis host: passphrase: "), std::string::npos) << seen;
+  const std::string answer = "blue whale\n";
+  ASSERT_EQ(write(terminal, answer.data(), answer.size()), static_cast<ssize_t>(answer.size()));
+  read_until("no site joined", 30.0);  // it listened (port N), nobody came within --wait 1
+  int status = 0;
+  kill(pid, SIGKILL);  // if it is still there after the deadline
+  waitpid(pid, &status, 0);
+  close(terminal);
+  EXPECT_NE(seen.find("port "), std::string::npos) << seen;
+  EXPECT_EQ(seen.find("blue whale"), std::string::npos) << "echoed: " << seen;
+  EXPECT_EQ(seen.find("reaches beyond"), std::string::npos) << seen;
 }
 
 TEST(DeixisSites, BadFlagsAndFilesExit2NamingWhatIsWrong) {

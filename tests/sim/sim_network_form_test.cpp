@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <thread>
 
+#include "app/endpoint.h"
 #include "app/sim_network_form.h"
 #include "app/sim_time.h"
 
@@ -104,6 +105,42 @@ TEST(SimNetworkFormTest, WhatCannotStartSaysWhy) {
   EXPECT_NE(host_problem("65536").find("expected 0 to 65535"), std::string::npos);
   EXPECT_NE(host_problem("").find("Host: port ''"), std::string::npos);
   EXPECT_NE(host_problem("12x").find("expected 0 to 65535"), std::string::npos);
+}
+
+TEST(SimNetworkFormTest, AHostBeyondLoopbackNeedsAPassphraseOrOpen) {
+  // The panel hosts where --bind said (127.0.0.1 by default); beyond loopback without a
+  // passphrase it refuses, saying what to do, unless the command line allowed open sessions.
+  SimOptions flags;
+  flags.network = true;
+  flags.host = true;
+  flags.address = "0.0.0.0";
+  flags.port = 0;
+  NetworkForm form = initial_network_form(flags);
+  EXPECT_EQ(form.bind, "0.0.0.0");
+  FormSession s = form_session(form);
+  EXPECT_FALSE(s.options.has_value());
+  EXPECT_NE(s.problem.find("reaches beyond this machine"), std::string::npos) << s.problem;
+  EXPECT_NE(s.problem.find("--open"), std::string::npos) << s.problem;
+  set(form.passphrase, "blue whale");
+  s = form_session(form);
+  ASSERT_TRUE(s.options.has_value()) << s.problem;
+  EXPECT_EQ(s.options->address, "0.0.0.0");
+  set(form.passphrase, "");
+  allow_open_sessions(true);
+  s = form_session(form);
+  allow_open_sessions(false);
+  ASSERT_TRUE(s.options.has_value()) << s.problem;
+
+  // Loopback in any spelling that resolves into 127.0.0.0/8 is fine without.
+  for (const char* bind : {"127.0.0.1", "127.1.2.3", "localhost"}) {
+    form.bind = bind;
+    EXPECT_TRUE(form_session(form).options.has_value()) << bind;
+  }
+  EXPECT_EQ(initial_network_form(SimOptions{}).bind, "127.0.0.1");
+  EXPECT_TRUE(binds_loopback_only("127.0.0.1"));
+  EXPECT_FALSE(binds_loopback_only("0.0.0.0"));
+  EXPECT_FALSE(binds_loopback_only("10.0.0.2"));
+  EXPECT_FALSE(binds_loopback_only(""));
 }
 
 TEST(SimTimeTest, FixedStepsThenTheWallClockFromWhereTheyStopped) {
