@@ -406,9 +406,17 @@ TEST(DeixisSites, HelpOfEveryCommandExits0) {
 TEST(DeixisDemo, AShortDemoWritesItsSummaryVideoAndContactSheet) {
   deixis::testing::ScratchDir dir;
   const auto start = Clock::now();
-  Deixis demo(
-      {"demo", "--seconds", "6", "--out", dir.path().string(), "--weights-dir", weights_dir()});
+  // A passphrase from the environment: the demo hands it to its sites in theirs (not on their
+  // command lines), so both sessions are sealed.
+  std::optional<Deixis> started;
+  {
+    const ScopedPassphrase env("blue whale");
+    started.emplace(std::vector<std::string>{"demo", "--seconds", "6", "--out", dir.path().string(),
+                                             "--weights-dir", weights_dir()});
+  }
+  Deixis& demo = *started;
   ASSERT_EQ(demo.wait(), 0) << demo.err();
+  EXPECT_EQ(demo.err().find("warning"), std::string::npos) << demo.err();
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   std::printf("demo --seconds 6: %.1f s wall\n", wall);
   EXPECT_NE(demo.out().find("tracking sent / received"), std::string::npos) << demo.out();
@@ -422,6 +430,7 @@ TEST(DeixisDemo, AShortDemoWritesItsSummaryVideoAndContactSheet) {
     EXPECT_EQ(s["site"], name);
     EXPECT_NEAR(s["ticks"].get<double>(), 180.0, 1.0);
     EXPECT_GT(s["network"]["tracking_received"].get<int>(), 120);
+    EXPECT_TRUE(s["network"]["sealed"].get<bool>());
     EXPECT_GT(s["avatar_visible_ticks"].get<int>(), 120);
     EXPECT_GT(s["render_ms"]["count"].get<int>(), 170);
     EXPECT_TRUE(s["render_ms"]["p50"].is_number());
