@@ -378,8 +378,10 @@ int main(int argc, char** argv) {
   CLI::App* host_cmd = app.add_subcommand(
       "host",
       "Run a site that others join: its virtual user's tracking goes out, the other site's "
-      "person comes in as a translated avatar in this room, rendered headlessly. Prints "
-      "\"port N\" once listening; exit 1 if the session fails, 2 for bad flags or files");
+      "person comes in as a translated avatar in this room, rendered headlessly. Listens on "
+      "127.0.0.1 unless --bind says otherwise; beyond loopback it needs a passphrase or --open. "
+      "Prints \"port N\" once listening; exit 1 if the session fails, 2 for bad flags or files "
+      "(or a host beyond loopback with neither)");
   add_site_flags(host_cmd, host);
   host_cmd->add_option("--port", host.port, "UDP port to listen on (0: any free port)")
       ->capture_default_str();
