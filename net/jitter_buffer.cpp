@@ -103,7 +103,10 @@ void JitterBuffer::reset() {
 }
 
 bool JitterBuffer::below_floor(std::uint32_t sequence) const {
-  return has_floor_ && !at_or_after(sequence, floor_);
+  // Accepted: strictly after the last result (floor_ − 1) in serial order, less than half the
+  // space after it. floor_ + 2^31 − 1 is exactly half the space from the last result: neither
+  // before nor after it, so it counts as old too.
+  return has_floor_ && static_cast<std::uint32_t>(sequence - floor_) >= kHalfSpace - 1;
 }
 
 void JitterBuffer::drop_old(std::uint32_t sequence, double transit, double arrival) {

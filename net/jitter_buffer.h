@@ -24,12 +24,14 @@
 //     frame among the last 64 results, otherwise late; dropped either way;
 //   - kCapacity ≤ ahead < kMaxSkip (kCapacity/2 before the stream plays): the sender skipped
 //     ahead, the schedule restarts from this frame (stats().restarts);
-//   - kMaxSkip ≤ ahead < 2^31: too far ahead to believe (the sender sends 30 frames a second and
-//     its connection is renewed, with new numbers, long before it could skip that far): dropped
-//     (stats().far_ahead). It does not keep the stream alive either, so a sender that really is
-//     there is followed after stop_after, when the stream has stopped and starts again from it.
-// Results only move forward: until reset(), nothing at or before the last result is accepted, not
-// even after a restart or a stop, so results are in serial order and no sequence number comes out
+//   - kMaxSkip ≤ ahead < 2^31 − 1: too far ahead to believe (the sender sends 30 frames a second
+//     and its connection is renewed, with new numbers, long before it could skip that far):
+//     dropped (stats().far_ahead). It does not keep the stream alive either, so a sender that
+//     really is there is followed after stop_after, when the stream has stopped and starts again
+//     from it. (2^31 − 1 ahead of the next frame is half the space from the last result: old.)
+// Results only move forward: until reset(), only frames strictly after the last result (1 to
+// 2^31 − 1 after it) are accepted, even after a restart or a stop (the rest are old: duplicate or
+// late), so each result is after the one before in serial order and no sequence number comes out
 // twice unless the results travel round the whole 2^32 space (which takes at least 2^16 restarts
 // or two stops). Times are never converted to integers. A frame whose sender time or arrival is
 // not finite or beyond ±kMaxTime is dropped as late, and pop() at such a time is kPending: with

@@ -422,7 +422,10 @@ TEST(JitterBufferSequenceSpace, HalfTheSpaceFromTheFirstFrameIsDroppedBeforePlay
 TEST(JitterBufferSequenceSpace, JustUnderHalfTheSpaceAheadIsTooFarToBelieve) {
   Stream stream;
   stream.run(0, 10);
-  const std::uint32_t stray = stream.next() + (kHalfSpace - 1);
+  // 2^31 − 1 ahead of the next frame is half the space from the last result: old (late).
+  stream.send(stream.next() + (kHalfSpace - 1));
+  EXPECT_EQ(stream.buffer.stats().late, 1u);
+  const std::uint32_t stray = stream.next() + (kHalfSpace - 2);
   stream.send(stray);
   EXPECT_EQ(stream.buffer.stats().far_ahead, 1u);
   EXPECT_EQ(stream.buffer.stats().restarts, 0u) << "one packet does not move the schedule";
@@ -655,6 +658,24 @@ TEST(JitterBufferSequenceSpace, ACallersClockGoingBackDoesNotMakeUpEveryPeriodSi
   EXPECT_EQ(buffer.stats().played, 1u);
   EXPECT_EQ(buffer.stats().stops, 1u);
   EXPECT_FALSE(buffer.streaming());
+}
+
+TEST(JitterBufferSequenceSpace, AfterAStopHalfTheSpaceFromTheLastResultIsOld) {
+  // The last result was 8 (floor 9); after a stop, 8 + 2^31 is neither before nor after it (the
+  // fuzzer found the buffer starting a stream there); 8 + 2^31 − 1 is after it and starts one.
+  Stream stream;
+  stream.run(0, 10);
+  stream.tick(30);
+  ASSERT_EQ(stream.buffer.stats().stops, 1u);
+  const std::uint32_t last = stream.out.back().sequence;
+  stream.send(last + kHalfSpace);
+  EXPECT_FALSE(stream.buffer.streaming());
+  EXPECT_EQ(stream.buffer.stats().late, 1u);
+  stream.send(last + kHalfSpace - 1);
+  EXPECT_TRUE(stream.buffer.streaming());
+  stream.tick(3);
+  EXPECT_EQ(stream.count(last + kHalfSpace - 1, PlayoutKind::kFrame), 1u);
+  expect_each_once_in_order(stream);
 }
 
 }  // namespace
