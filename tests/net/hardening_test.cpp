@@ -182,6 +182,41 @@ TEST(Hardening, TheKeyIsDerivedOffTheCallersThread) {
   EXPECT_FALSE(host.deriving_key()) << "the key arrived and was taken";
 }
 
+TEST(Hardening, AVersionOneJoinerIsToldItsVersionIsWrong) {
+  // A join as protocol version 1 laid it out: 72 bytes, version 1. The host reads type, magic
+  // and version first, so the old peer hears "version mismatch", not silence.
+  SimulatedNetwork network({}, 32);
+  Session host(network.host(), testing::session_config(Role::kHost, "A", "pw"));
+  Link& old = network.joiner();
+  double now = 0.0;
+  host.start(now);
+  const PeerId peer = old.connect();
+  std::vector<std::byte> join(72, std::byte{0});
+  join[0] = std::byte{0x02};
+  join[1] = std::byte{'D'};
+  join[2] = std::byte{'E'};
+  join[3] = std::byte{'I'};
+  join[4] = std::byte{'X'};
+  join[5] = std::byte{1};  // version 1, little-endian
+  join[7] = std::byte{1};  // passphrase
+  int bye = -1;
+  for (int i = 0; i < 200 && bye < 0; ++i) {
+    now += 0.005;
+    network.set_time(now);
+    for (LinkEvent e = old.next_event(0); e.kind != LinkEvent::Kind::kNone; e = old.next_event(0)) {
+      Bye b;
+      if (e.kind == LinkEvent::Kind::kReceived && e.bytes[0] == std::byte{0x01}) {
+        old.send(peer, Channel::kReliable, join);  // answers the welcome
+      } else if (e.kind == LinkEvent::Kind::kReceived && decode(e.bytes, b).ok()) {
+        bye = static_cast<int>(b.reason);
+      }
+    }
+    host.service(now);
+  }
+  EXPECT_EQ(bye, static_cast<int>(ByeReason::kVersionMismatch));
+  EXPECT_EQ(host.drops()[DropReason::kWrongVersion], 1u);
+}
+
 // ---- real loopback sockets in this process: the many-peer host ----
 
 using SteadyClock = std::chrono::steady_clock;
