@@ -70,7 +70,7 @@ struct CaptureJudgeOptions {
 int run_capture_judge(const CaptureJudgeOptions& options);
 
 // Every command that hosts binds 127.0.0.1 unless --bind says otherwise; beyond loopback it needs
-// a passphrase or --open (app/endpoint.h, docs/security-defaults.md). `passphrase` fields hold
+// a passphrase or --open (app/endpoint.h, docs/security.md). `passphrase` fields hold
 // the passphrase as main.cpp read it: --passphrase, --passphrase-file, --ask-passphrase or
 // DEIXIS_PASSPHRASE.
 

@@ -1,7 +1,7 @@
 #pragma once
 // A host's endpoint as a person types it, "HOST:PORT" (`--join`, `--connect`, the simulator's
 // panel): one reading for the command line and the window, so both accept and refuse the same.
-// Next to it, who may reach a host (docs/security-defaults.md): a host binds 127.0.0.1 unless told
+// Next to it, who may reach a host (docs/security.md): a host binds 127.0.0.1 unless told
 // otherwise, and one reachable beyond loopback needs a passphrase or an explicit --open; and how a
 // passphrase is read without putting it on the command line (an environment variable, a file, a
 // prompt on the terminal).

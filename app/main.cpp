@@ -97,7 +97,7 @@ void add_site_flags(CLI::App* cmd, deixis::app::SiteRunOptions& o) {
       "--no-video", [&o] { o.video = false; }, "Do not render (no EGL context, no ffmpeg)");
 }
 
-// ---- The passphrase and who may reach a host (docs/security-defaults.md) ----
+// ---- The passphrase and who may reach a host (docs/security.md) ----
 
 // Where a command's passphrase comes from: one of --passphrase TEXT, --passphrase-file FILE and
 // --ask-passphrase, else the DEIXIS_PASSPHRASE environment variable. --open: host beyond loopback

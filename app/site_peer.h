@@ -21,8 +21,8 @@ namespace deixis::app {
 
 struct SitePeerOptions {
   net::Role role = net::Role::kHost;
-  std::string address = "0.0.0.0";  // host: where to listen; joiner: the host
-  std::uint16_t port = 7350;        // host: 0 picks a free one
+  std::string address = "127.0.0.1";  // host: where to listen (docs/security.md); joiner: the host
+  std::uint16_t port = 7350;          // host: 0 picks a free one
   std::string passphrase;
   double wait = 30.0;  // s for the other site to come
 };

@@ -73,6 +73,13 @@ json means_json(const Means& m, bool touching) {
           {"copy_vertical_deg", number(m.copy_v)}};
 }
 
+// Connections a host did not serve (docs/security.md): how many, and what became of them.
+json strangers_json(const net::StrangerStats& s) {
+  return {{"connected", s.connected}, {"turned_away", s.over_budget},    {"evicted", s.evicted},
+          {"timed_out", s.timed_out}, {"held_back", s.held_back},        {"told_busy", s.busy},
+          {"chatty", s.chatty},       {"salts_rotated", s.salts_rotated}};
+}
+
 json network_json(const SiteRecord& r) {
   const std::size_t frame_bytes = net::kTrackingBytes + (r.sealed ? net::kSealOverheadBytes : 0);
   const double datagram = r.traffic.sent_datagrams > 0
@@ -92,7 +99,10 @@ json network_json(const SiteRecord& r) {
           {"bytes_per_frame", frame_bytes},
           {"udp_payload_bytes_per_datagram", number(datagram)},
           {"bytes_sent", r.net.bytes_sent},
-          {"bytes_received", r.net.bytes_received}};
+          {"bytes_received", r.net.bytes_received},
+          {"floods_cut", r.net.floods_cut},
+          {"auth_failures", r.auth_failures},
+          {"strangers", strangers_json(r.strangers)}};
 }
 
 json steps_json(const std::vector<capture::StepTiming>& steps) {

@@ -33,7 +33,9 @@ struct SiteRecord {
   // Network, at the end of the run.
   net::SessionStats net;
   net::JitterStats jitter;
-  std::uint64_t rejected = 0;  // packets dropped by the decoder or the session
+  std::uint64_t rejected = 0;       // packets dropped by the decoder or the session
+  net::StrangerStats strangers;     // host: what became of connections it did not serve
+  std::uint64_t auth_failures = 0;  // proofs that did not verify
   bool sealed = false;
   net::EnetLink::Traffic traffic;
   std::string video;  // file name in the output directory, or empty

@@ -254,6 +254,8 @@ class SiteRun {
     record_.remote_completions.assign(observer_.samples().begin(), observer_.samples().end());
     record_.completions_dropped = observer_.dropped();
     record_.net = session.stats();
+    record_.strangers = session.strangers();
+    record_.auth_failures = session.status().auth_failures;
     record_.jitter = session.jitter();
     record_.rejected = session.drops().total;
     record_.sealed = !options_.passphrase.empty();

@@ -12,8 +12,15 @@ namespace {
 
 std::string refusal_message(const net::PeerStatus& status, net::Role role) {
   const std::string reason(net::bye_reason_name(status.last_bye));
-  const std::string who = role == net::Role::kJoiner ? "the host refused this site" : "refused";
+  std::string who = role == net::Role::kJoiner ? "the host refused this site" : "refused";
   std::string hint;
+  if (status.last_bye == net::ByeReason::kWeakKeyCost) {
+    // The joiner refused the host (docs/security.md, "Threat model").
+    who = "this site refused the host";
+    hint =
+        " (below libsodium's INTERACTIVE cost a host could test passphrase guesses against "
+        "this site's proof cheaply: is it the host you meant?)";
+  }
   if (status.last_bye == net::ByeReason::kAuthenticationFailed) {
     hint = " (the passphrases differ)";
   } else if (status.last_bye == net::ByeReason::kPassphraseRequired) {

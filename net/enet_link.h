@@ -82,7 +82,7 @@ class EnetLink : public Link {
     std::uint32_t connect_id = 0;
     bool connected = false;
     std::uint32_t address = 0;
-    char name[48] = "none";
+    char name[64] = "none";  // "address:port": 45 + 1 + 5 bytes at most
   };
 
   EnetLink(ENetHost* host, bool is_host, std::uint32_t remote_ip, std::uint16_t remote_port,

@@ -3,7 +3,7 @@
 // person (the pointing error at the remote completion state beats copying the pose); a wrong
 // passphrase is refused; bad flags and files exit 2 naming what is wrong; a short demo writes a
 // well-formed summary.json, a video and a contact sheet. Hosts listen on port 0 and print the
-// port, so no test guesses a free port. Safe defaults (docs/security-defaults.md): a host binds
+// port, so no test guesses a free port. Safe defaults (docs/security.md): a host binds
 // 127.0.0.1 unless --bind says otherwise, and beyond loopback it needs a passphrase or --open;
 // the passphrase comes from DEIXIS_PASSPHRASE, --passphrase-file or (with a warning) --passphrase.
 
