@@ -57,51 +57,56 @@ void expect_session_survived(const Result& host, const Result& joiner) {
               num(joiner, "played"), sent);
 }
 
-TEST(Hostile, GarbageUdpFloodDuringASession) {
+struct Outcome {
+  Result host, joiner, attacker;
+};
+
+// A host, then the attacker (net_peer --role `role` from 127.0.0.2 with `args`), once it says it
+// started and `head_start` later the rightful joiner; what each of the three reported.
+Outcome attack(const std::string& role, std::vector<std::string> args,
+               std::chrono::milliseconds head_start = std::chrono::milliseconds(0)) {
   Child host(host_args());
   const std::string port = start_host(host);
-  Child garbage({"--role", "garbage", "--port", port, "--local", "127.0.0.2", "--count", "20000",
-                 "--deadline", "8"});
-  ASSERT_FALSE(garbage.line_starting("garbage started").empty());
-  const Result j = run_joiner(port);
-  const Result h = finish(host);
-  const Result g = finish(garbage);
-  expect_session_survived(h, j);
-  std::printf("thrown: %lld datagrams of random bytes at %s a second\n", num(g, "sent"),
-              g.at("per_second").c_str());
+  std::vector<std::string> attacker_args = {"--role", role, "--port", port, "--local", "127.0.0.2"};
+  attacker_args.insert(attacker_args.end(), args.begin(), args.end());
+  Child attacker(attacker_args);
+  EXPECT_FALSE(attacker.line_starting(role + " started").empty());
+  std::this_thread::sleep_for(head_start);
+  Outcome o;
+  o.joiner = run_joiner(port);
+  o.host = finish(host);
+  o.attacker = finish(attacker);
+  return o;
+}
+
+TEST(Hostile, GarbageUdpFloodDuringASession) {
+  const Outcome o = attack("garbage", {"--count", "20000", "--deadline", "8"});
+  expect_session_survived(o.host, o.joiner);
+  std::printf("thrown: %lld datagrams of random bytes at %s a second\n", num(o.attacker, "sent"),
+              o.attacker.at("per_second").c_str());
 }
 
 TEST(Hostile, StormOfSilentConnectionsDoesNotKeepTheJoinerOut) {
-  Child host(host_args());
-  const std::string port = start_host(host);
-  Child storm({"--role", "storm", "--port", port, "--local", "127.0.0.2", "--count", "32",
-               "--deadline", "9"});
-  ASSERT_FALSE(storm.line_starting("storm started").empty());
-  std::this_thread::sleep_for(std::chrono::seconds(1));  // the storm takes what it can
-  const Result j = run_joiner(port);
-  const Result h = finish(host);
-  const Result s = finish(storm);
-  expect_session_survived(h, j);
+  // A second for the storm to take what it can before the joiner tries.
+  const Outcome o =
+      attack("storm", {"--count", "32", "--deadline", "9"}, std::chrono::milliseconds(1000));
+  const Result& h = o.host;
+  expect_session_survived(h, o.joiner);
   EXPECT_GT(num(h, "over_budget") + num(h, "stranger_timeouts") + num(h, "evicted"), 0)
       << "the storm was turned away or let go";
   std::printf(
       "thrown: 32 silent connections from one address, %lld connection attempts; the host took "
       "%lld into its handshake table, turned %lld away at once, timed %lld out\n",
-      num(s, "connects"), num(h, "strangers"), num(h, "over_budget"), num(h, "stranger_timeouts"));
+      num(o.attacker, "connects"), num(h, "strangers"), num(h, "over_budget"),
+      num(h, "stranger_timeouts"));
 }
 
 TEST(Hostile, WrongPassphraseHammeringIsHeldBack) {
-  Child host(host_args());
-  const std::string port = start_host(host);
-  Child hammer({"--role", "hammer", "--site", "M", "--port", port, "--local", "127.0.0.2",
-                "--passphrase", "guess", "--deadline", "8"});
-  ASSERT_FALSE(hammer.line_starting("hammer started").empty());
-  const Result j = run_joiner(port);
-  const Result h = finish(host);
-  const Result m = finish(hammer);
-  expect_session_survived(h, j);
+  const Outcome o = attack("hammer", {"--site", "M", "--passphrase", "guess", "--deadline", "8"});
+  const Result& m = o.attacker;
+  expect_session_survived(o.host, o.joiner);
   EXPECT_GT(num(m, "held_back"), 0) << "the guesser was held back";
-  EXPECT_EQ(num(h, "auth_failures"), num(m, "refused")) << "every verified guess, counted";
+  EXPECT_EQ(num(o.host, "auth_failures"), num(m, "refused")) << "every verified guess, counted";
   const double minutes = std::stod(m.at("seconds")) / 60.0;
   std::printf(
       "thrown: %lld wrong-passphrase joins from one address in %.1f s; %lld verified and "
