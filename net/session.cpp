@@ -1008,8 +1008,14 @@ void Session::on_welcome(const Welcome& m, double now) {
     exchange_keys_ = make_exchange_keys();
     // Argon2id is slow on purpose: off this thread, and a reconnect to the same host reuses it.
     if (!key_.master || key_.salt != m.salt || !(key_.cost == m.kdf)) {
+      // A derivation already running for this salt and cost (an attempt that ended before it was
+      // done) is waited for, not restarted: restarting would block this thread on the old one.
+      const bool running =
+          derivation_.started() && derivation_.salt() == m.salt && derivation_.cost() == m.kdf;
       key_ = HostKey{m.salt, m.kdf, std::nullopt};
-      derivation_.start(config_.passphrase, m.salt, m.kdf, config_.derive_on_this_thread);
+      if (!running) {
+        derivation_.start(config_.passphrase, m.salt, m.kdf, config_.derive_on_this_thread);
+      }
       if (!derivation_.ready()) {
         return;  // timers() sends the join when the key is there
       }
