@@ -509,6 +509,13 @@ void Session::remove_pending(PeerId peer) {
   }
 }
 
+// A stranger has no keys yet: its bye goes plain, on the reliable channel.
+void Session::send_plain_bye(PeerId peer, ByeReason reason) {
+  std::array<std::byte, kByeBytes> bye{};
+  encode(Bye{reason}, bye);
+  send_to(peer, bye);
+}
+
 void Session::let_go(PeerId peer, ByeReason reason) {
   link_.disconnect(peer, static_cast<std::uint32_t>(reason));
   remove_pending(peer);
@@ -606,9 +613,7 @@ void Session::on_stranger_packet(Pending& p, Channel channel, std::span<const st
   if (WireResult e = decode(bytes, join); !e.ok()) {
     drop_log_.drop(now, link_.peer_name(p.peer), channel, type, e);
     if (e.reason == DropReason::kWrongVersion) {
-      std::array<std::byte, kByeBytes> bye{};
-      encode(Bye{ByeReason::kVersionMismatch}, bye);
-      send_to(p.peer, bye);
+      send_plain_bye(p.peer, ByeReason::kVersionMismatch);
       let_go(p.peer, ByeReason::kVersionMismatch);
     }
     return;
@@ -725,9 +730,7 @@ void Session::verify_join(Pending& p, double now) {
   if (join.auth != p.welcome.auth) {
     const ByeReason reason =
         has_passphrase() ? ByeReason::kPassphraseRequired : ByeReason::kPassphraseUnexpected;
-    std::array<std::byte, kByeBytes> bye{};
-    encode(Bye{reason}, bye);
-    send_to(peer, bye);
+    send_plain_bye(peer, reason);
     warn_limited(now, "refusing " + std::string(link_.peer_name(peer)) + ": " +
                           std::string(bye_reason_name(reason)));
     return let_go(peer, reason);
@@ -742,9 +745,7 @@ void Session::verify_join(Pending& p, double now) {
   AddressRecord& record = record_of(p.address, now);
   if (now < record.blocked_until) {
     ++strangers_.held_back;
-    std::array<std::byte, kByeBytes> bye{};
-    encode(Bye{ByeReason::kTryLater}, bye);
-    send_to(peer, bye);
+    send_plain_bye(peer, ByeReason::kTryLater);
     warn_limited(now, "holding back " + std::string(link_.peer_name(peer)) + " for " +
                           std::to_string(static_cast<int>(record.blocked_until - now + 0.5)) +
                           " s after failed proofs from its address");
@@ -759,9 +760,7 @@ void Session::verify_join(Pending& p, double now) {
   }
   if (!site) {
     failed_proof(p.address, now);
-    std::array<std::byte, kByeBytes> bye{};
-    encode(Bye{ByeReason::kAuthenticationFailed}, bye);
-    send_to(peer, bye);
+    send_plain_bye(peer, ByeReason::kAuthenticationFailed);
     warn_limited(now, "refusing " + std::string(link_.peer_name(peer)) + ": " +
                           std::string(bye_reason_name(ByeReason::kAuthenticationFailed)));
     if (prk) {
@@ -779,9 +778,7 @@ void Session::serve(Pending& p, const std::optional<Key>& prk, const std::string
   const PeerId peer = p.peer;
   if (serving()) {
     ++strangers_.busy;
-    std::array<std::byte, kByeBytes> bye{};
-    encode(Bye{ByeReason::kBusy}, bye);
-    send_to(peer, bye);
+    send_plain_bye(peer, ByeReason::kBusy);
     return let_go(peer, ByeReason::kBusy);
   }
   Accept accept;

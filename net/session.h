@@ -250,6 +250,7 @@ class Session {
                           double now);
   void verify_join(Pending& p, double now);
   void serve(Pending& p, const std::optional<Key>& prk, const std::string& joiner_site, double now);
+  void send_plain_bye(PeerId peer, ByeReason reason);
   void let_go(PeerId peer, ByeReason reason);
   void remove_pending(PeerId peer);
   Pending* find_pending(PeerId peer);
