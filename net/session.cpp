@@ -202,7 +202,7 @@ void Session::on_event(const LinkEvent& e, double now) {
 
 void Session::timers(double now) {
   if (is_host()) {
-    host_key_timers(now);
+    host_key_timers();
     pending_timers(now);
   }
   switch (status_.state) {
@@ -669,7 +669,7 @@ void Session::failed_proof(std::uint32_t address, double now) {
   }
 }
 
-void Session::host_key_timers(double now) {
+void Session::host_key_timers() {
   if (!derivation_.ready()) {
     return;
   }
@@ -687,12 +687,7 @@ void Session::host_key_timers(double now) {
   key_.salt = salt;
   key_.master = master;
   wipe(*master);
-  for (Pending& p : pending_) {  // joins that waited for the key
-    if (p.join) {
-      verify_join(p, now);
-      break;  // the list may have changed; the rest are verified on the next tick
-    }
-  }
+  // Joins that waited for the key are verified by pending_timers(), which runs right after.
 }
 
 const Session::HostKey* Session::host_key_for(const Salt& salt) const {

@@ -260,7 +260,7 @@ class Session {
   bool held_back(std::uint32_t address, double now) const;
   void failed_proof(std::uint32_t address, double now);
   const HostKey* host_key_for(const Salt& salt) const;
-  void host_key_timers(double now);
+  void host_key_timers();
   void pending_timers(double now);
 
   // Messages (the served peer, or the joiner's host).
