@@ -7,8 +7,8 @@
 //            the humanBones tables of both VRM extensions are read through this scheme too.
 //   kMixamo  Adobe Mixamo's names with or without their namespace ("mixamorig:LeftArm",
 //            "mixamorig1_LeftArm", "LeftArm"); Spine → spine, Spine1 → chest.
-//   kBcn     the rig of assimp's test model BCN_Epileptic (DESIGN §10): "B_Neck" acts as head,
-//            B_Finger1..3 is the index chain.
+//   kBcn     the rig of assimp's test model BCN_Epileptic (docs/avatars.md): "B_Neck" acts as
+//            head, B_Finger1..3 is the index chain.
 
 #include <optional>
 #include <string_view>

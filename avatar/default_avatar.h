@@ -1,11 +1,11 @@
 #pragma once
 // Deixis' default avatar: a parametric, low-poly skinned humanoid generated from a height and an
-// arm length (DESIGN §10). Joints carry Deixis' bone names (VRM 1.0 humanoid names, plus the
-// thumbs and legs VRM names too; docs/avatars.md), the rest pose is a T-pose with every joint
-// frame aligned with the model, and the index fingertips are end sites "leftIndexTip" and
-// "rightIndexTip". Proportions other than the two parameters follow standard anthropometric
-// ratios of stature (Drillis & Contini, as tabulated by Winter, "Biomechanics and Motor Control of
-// Human Movement").
+// arm length (docs/avatars.md#the-default-avatar). Joints carry Deixis' bone names (VRM 1.0
+// humanoid names, plus the thumbs and legs VRM names too; docs/avatars.md), the rest pose is a
+// T-pose with every joint frame aligned with the model, and the index fingertips are end sites
+// "leftIndexTip" and "rightIndexTip". Proportions other than the two parameters follow standard
+// anthropometric ratios of stature (Drillis & Contini, as tabulated by Winter, "Biomechanics and
+// Motor Control of Human Movement").
 
 #include <cstdint>
 #include <vector>

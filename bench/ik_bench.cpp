@@ -1,6 +1,6 @@
 // The IK jobs one by one, and the whole avatar's solve, on the procedural 1.70 m test rig
 // (tests/ik/test_rig.h: 32 joints with legs, clavicles, thumbs, middle fingers and three-joint
-// index fingers), one thread. Goal (issue 6): full solve ≤ 10 µs; the paper's IK took 1.5 ms.
+// index fingers), one thread. Goal: full solve ≤ 10 µs; the paper's IK took 1.5 ms.
 //
 // Targets cycle through 64 prepared ticks so that branch predictors and caches see varied input.
 // The per-job benchmarks start every run from the rest pose (BM_RestPose is that copy alone);

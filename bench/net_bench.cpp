@@ -1,4 +1,4 @@
-// The network layer's figures (issue 7): bytes and time per tracking frame, sealing, the jitter
+// The network layer's figures: bytes and time per tracking frame, sealing, the jitter
 // buffer, a streaming tick of two sessions, one frame through real ENet on loopback, and the
 // jitter-buffer delay against network jitter (the figure behind the 50 ms default).
 //

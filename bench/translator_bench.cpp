@@ -1,6 +1,6 @@
 // A full translator tick (features, MPNet, blend, UGNet, decode) for one remote person, one
 // thread, and the whole remote avatar's tick (that, touch contact and the whole-avatar IK on the
-// default avatar). Goals (issue 6): tick ≤ 60 µs, IK ≤ 10 µs; the paper's MPNet + UGNet + IK took
+// default avatar). Goals: tick ≤ 60 µs, IK ≤ 10 µs; the paper's MPNet + UGNet + IK took
 // 6.7 ms.
 
 #include <benchmark/benchmark.h>

@@ -1,6 +1,6 @@
 #pragma once
 // The ten action categories of the authors' capture (paper §III.A), in the order of their
-// training and test scripts (NOTES §6, §7.1).
+// training and test scripts (docs/conventions.md#training-data).
 
 #include <array>
 #include <cstdint>
@@ -36,7 +36,7 @@ std::string_view category_title(Category category);
 Category parse_category(std::string_view name);
 
 bool is_touching(Category category);
-// Categories with free-form movement (the UGNet hold trick of NOTES §6 applies to them).
+// Categories with free-form movement (UGNet's free-form hold, docs/conventions.md#training-data).
 bool has_free_form(Category category);
 // Categories the paper augments by speed (×0.5, ×2; paper §III.C).
 bool is_speed_augmented(Category category);

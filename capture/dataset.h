@@ -3,7 +3,7 @@
 // targets, the labels, and what the networks read — MPNet's 11 features, the 24 end-effectors
 // and the target feature — computed by the runtime's own feature code (gesture/features.h), so
 // training and runtime share one implementation. Whole sequences are stored; the trainer cuts
-// 45-frame clips with a hop of 7 (NOTES §6).
+// 45-frame clips with a hop of 7 (docs/conventions.md#training-data).
 
 #include <cstdint>
 #include <filesystem>

@@ -1,10 +1,10 @@
 #pragma once
-// The capture's datasets (DESIGN §7; paper §III): the training subject's sequences with speed
+// The capture's datasets (docs/dataset.md; paper §III): the training subject's sequences with speed
 // augmentation and a mirrored (left-handed) copy, and test and validation sets of other subjects,
 // each a safetensors file in one directory:
 //   train_right.safetensors      training subject; ×1, ×0.5, ×2 for the single/two-target
 //   categories train_left.safetensors       the same sequences mirrored (a left-handed person)
-//   test_<subject>.safetensors   per test subject, per category counts as the authors' (NOTES §7.1)
+//   test_<subject>.safetensors   per test subject, per category counts as the authors'
 //   validation_<subject>.safetensors   extra subjects (FMD autoencoder validation)
 // Every sequence's seed is derived from (seed, set, subject, category, index), so a sequence can
 // be re-performed alone (`deixis capture preview`) and the same options give identical files.
@@ -26,8 +26,9 @@ inline constexpr std::string_view kTrainingSet = "train";
 inline constexpr std::string_view kTestSet = "test";
 inline constexpr std::string_view kValidationSet = "validation";
 
-// Sequences per category: at least the authors' training counts (NOTES §6; single-target
-// categories ×3, standing in for their unpublished easing augmentation), and their test counts.
+// Sequences per category: at least the authors' training counts (docs/dataset.md#files;
+// single-target categories ×3, standing in for their unpublished easing augmentation), and their
+// test counts.
 int training_count(Category category);
 int test_count(Category category);
 

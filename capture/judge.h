@@ -1,11 +1,11 @@
 #pragma once
 // A judge no one here wrote: the authors' MPNet MoE, trained on real people, run on the test
-// subjects' sequences the way their test_MPNet.py does (NOTES §7.1): each sequence is prefixed
-// with 29 copies of its first row, every 30-row window is fed, and the output is compared with
-// the labels of the window's newest row; MPE = mean |p − p̂| per channel, total = mean of the
-// three. Right-handed subjects use the right checkpoint, left-handed ones the left, each on the
-// rows as stored: gesture/features.h sees every person in their own view, which is what the
-// checkpoint of their hand was trained on (docs/decisions.md §17).
+// subjects' sequences the way their test_MPNet.py does (docs/eval.md#what-each-number-is): each
+// sequence is prefixed with 29 copies of its first row, every 30-row window is fed, and the output
+// is compared with the labels of the window's newest row; MPE = mean |p − p̂| per channel,
+// total = mean of the three. Right-handed subjects use the right checkpoint, left-handed ones the
+// left, each on the rows as stored: gesture/features.h sees every person in their own view, which
+// is what the checkpoint of their hand was trained on (docs/decisions.md §17).
 
 #include <array>
 #include <filesystem>

@@ -1,9 +1,9 @@
 #pragma once
 // Monotone piecewise cubic Hermite interpolation (Fritsch & Carlson 1980), as SciPy's
-// PchipInterpolator computes it (the authors' speed augmentation, NOTES §6): slopes are the
-// weighted harmonic mean of neighbouring secants, zero at local extrema, and the one-sided
-// three-point formula at the ends. It never overshoots the data and preserves monotonicity, so
-// labels stay in [0, 1] and ramps stay monotone.
+// PchipInterpolator computes it (the authors' speed augmentation,
+// docs/conventions.md#training-data): slopes are the weighted harmonic mean of neighbouring
+// secants, zero at local extrema, and the one-sided three-point formula at the ends. It never
+// overshoots the data and preserves monotonicity, so labels stay in [0, 1] and ramps stay monotone.
 
 #include <span>
 #include <vector>

@@ -1,10 +1,10 @@
 #pragma once
-// Speed augmentation (paper §III.C; NOTES §6): a sequence played ×0.5 or ×2 by monotone cubic
-// (PCHIP) resampling over its normalised time, as the authors did for the single- and two-target
-// categories. Positions, rotation matrices (re-orthonormalised), gaze (renormalised) and labels
-// are resampled; fingertips are recomposed from the resampled wrists so the hand stays rigid;
-// targets and phase keys go to the nearest frame. Resample clean sequences (before tracker
-// noise): noise is a property of the tracker, not of the motion's speed.
+// Speed augmentation (paper §III.C; docs/conventions.md#training-data): a sequence played ×0.5 or
+// ×2 by monotone cubic (PCHIP) resampling over its normalised time, as the authors did for the
+// single- and two-target categories. Positions, rotation matrices (re-orthonormalised), gaze
+// (renormalised) and labels are resampled; fingertips are recomposed from the resampled wrists so
+// the hand stays rigid; targets and phase keys go to the nearest frame. Resample clean sequences
+// (before tracker noise): noise is a property of the tracker, not of the motion's speed.
 
 #include "capture/sequence.h"
 

@@ -1,8 +1,8 @@
 #pragma once
 // Pairing a user's sequence with an avatar's (another sequence of the same category: its targets
 // become the avatar's targets) and aligning them in time, as the authors' data_parser.py does
-// for their evaluation (NOTES §7.3): rows before the first phase key are dropped, and phases are
-// aligned by PCHIP-resampling the shorter of the two to the longer.
+// for their evaluation (docs/eval.md#what-each-number-is): rows before the first phase key are
+// dropped, and phases are aligned by PCHIP-resampling the shorter of the two to the longer.
 //
 // The capture marks the start and end of every label ramp as a phase key (docs/dataset.md), more
 // keys than the authors' pairing files, and not always the same number in two sequences of a
@@ -34,9 +34,9 @@ std::optional<std::size_t> first_key(const TestSet& set, std::size_t s);
 // First frame at or after `from` whose deictic label is 1 (completion state), or nullopt.
 std::optional<std::size_t> completion_frame(const TestSet& set, std::size_t s, std::size_t from);
 
-// DIP pairing (NOTES §7.3): onset → completion of both sequences aligned (the shorter phase
-// PCHIP-resampled to the longer), then `after` more rows of each. nullopt when either sequence
-// has no onset or never completes.
+// DIP pairing (docs/eval.md#what-each-number-is): onset → completion of both sequences aligned (the
+// shorter phase PCHIP-resampled to the longer), then `after` more rows of each. nullopt when either
+// sequence has no onset or never completes.
 std::optional<AlignedPair> align_at_completion(const TestSet& set, std::size_t user,
                                                std::size_t avatar,
                                                int after = kRowsAfterCompletion);

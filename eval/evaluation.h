@@ -36,7 +36,7 @@ struct EvalOptions {
   std::function<void(const std::string&)> progress;
 };
 
-// The protocol's sampling (all pairs of NOTES §7) and the tiny one of --quick.
+// The protocol's sampling (all pairs, docs/eval.md#sampling-and-time) and the tiny one of --quick.
 Sampling full_sampling();
 Sampling quick_sampling();
 

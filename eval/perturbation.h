@@ -1,9 +1,9 @@
 #pragma once
 // The tracking failures of paper §V.D, applied to a user's recorded sequence.
 //
-// - Missed tracking, as the authors' test_UGNet.py does it (NOTES §7.6): at frames 0, 30, 60, …
-//   with probability 0.3 the next `frames` rows are replaced by the row before (the system holds
-//   the last tracked frame).
+// - Missed tracking, as the authors' test_UGNet.py does it (docs/eval.md#what-each-number-is):
+//   at frames 0, 30, 60, … with probability 0.3 the next `frames` rows are replaced by the row
+//   before (the system holds the last tracked frame).
 // - Jitter (occlusion) and continuous noise are not in the authors' release; ours perturb the
 //   tracking (head, the deictic wrist with its fingertip, gaze) and the network columns are
 //   recomputed by gesture/features.h, as the runtime would. Jitter: on 3 % of frames (about one a

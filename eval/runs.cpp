@@ -71,7 +71,8 @@ std::vector<std::size_t> partners_of(const std::vector<std::size_t>& list, std::
 // The 18 columns FMD reads per frame (head 6D + position, hand 6D + position: x[3..20]).
 constexpr int kMotionFirst = ee::kHeadForward;
 
-// 30-frame segments with a hop of 15 plus the last 30 frames (NOTES §7.5), encoded.
+// 30-frame segments with a hop of 15 plus the last 30 frames, encoded
+// (docs/eval.md#what-each-number-is).
 void encode_segments(const nn::MotionEncoder& encoder, const std::vector<EndEffectors>& motion,
                      std::vector<std::vector<double>>& codes) {
   const std::size_t n = motion.size();
@@ -299,7 +300,8 @@ DipResult run_dip(const Generator& g, const TestSet& set, const Sampling& sampli
 namespace {
 
 // One abrupt change: UGNet alone from completion pose x0 (target t0) to the new target, 30
-// steps, progression (1, 1, 0) throughout (NOTES §7.4); adds the per-step errors.
+// steps, progression (1, 1, 0) throughout; adds the per-step errors
+// (docs/eval.md#what-each-number-is).
 void dr_change(const nn::Ugnet* ugnet, const EndEffectors& x0, const TargetFeature& t0,
                const TargetFeature& t_new, const Vec3& target, bool touching, std::uint64_t seed,
                DrResult& r) {

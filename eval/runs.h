@@ -1,14 +1,14 @@
 #pragma once
-// The evaluation runs of paper §V on one held-out subject (NOTES §7): each runs a row's networks
-// over the subject's test set the way the authors' test scripts do and returns the subject's
-// numbers; eval/evaluation.h averages subjects and lays out the tables.
+// The evaluation runs of paper §V on one held-out subject (docs/eval.md#what-each-number-is): each
+// runs a row's networks over the subject's test set the way the authors' test scripts do and
+// returns the subject's numbers; eval/evaluation.h averages subjects and lays out the tables.
 //
-//   MPE, SS    MPNet alone (test_MPNet.py, NOTES §7.1–7.2)
+//   MPE, SS    MPNet alone (test_MPNet.py)
 //   DIP        the chained loop MPNet → window → blend → UGNet on aligned pairs, read at the
-//              completion state (§7.3)
-//   DR         UGNet alone from completion poses after an abrupt target change (§7.4)
-//   FMD        the chained loop on whole sequences, latent codes of the motion encoder (§7.5)
-//   robustness missed tracking 0.2–1.0 s, jitter and continuous noise against the clean run (§7.6)
+//              completion state
+//   DR         UGNet alone from completion poses after an abrupt target change
+//   FMD        the chained loop on whole sequences, latent codes of the motion encoder
+//   robustness missed tracking 0.2–1.0 s, jitter and continuous noise against the clean run
 //
 // A Generator without a UGNet is the copy-paste baseline: the avatar takes the user's
 // end-effectors unchanged (the user's pose relative to their own root, put at the avatar's).
@@ -74,8 +74,8 @@ struct MpeResult {
 };
 MpeResult run_mpe(const nn::Mpnet& mpnet, const TestSet& set, const Sampling& sampling);
 
-// SS on the subject's two-target sequences (the authors used their training subject's; issue 8
-// forbids numbers from it): 30 windows in which the first row gives way to the last row, one row
+// SS on the subject's two-target sequences (the authors used their training subject's; no number
+// may come from it): 30 windows in which the first row gives way to the last row, one row
 // per step; mean |p − (0, 0, 1)| over steps and channels.
 Mean run_state_stability(const nn::Mpnet& mpnet, const TestSet& set, const Sampling& sampling);
 
@@ -127,10 +127,10 @@ RobustnessResult run_robustness(const Generator& generator, const TestSet& set,
 
 // ---- building blocks (tests use them) -------------------------------------------------------
 
-// The chained loop over an aligned pair (NOTES §5.2): for each frame k, UGNet's prediction of
-// the avatar's end-effectors at frame k from the windows ending at frame k − 1 (frame 0: the
-// 30-row prefix). The copy-paste generator returns the user's end-effectors. `seed` feeds the
-// diffusion UGNet's draws.
+// The chained loop over an aligned pair (docs/conventions.md#translation-loop): for each frame k,
+// UGNet's prediction of the avatar's end-effectors at frame k from the windows ending at frame
+// k − 1 (frame 0: the 30-row prefix). The copy-paste generator returns the user's end-effectors.
+// `seed` feeds the diffusion UGNet's draws.
 // `progressions`, when given, are MPNet's outputs for the chain's steps (user_progressions()),
 // so MPNet does not run again.
 std::vector<EndEffectors> run_chain(const Generator& generator, const AlignedPair& pair,

@@ -1,8 +1,8 @@
 #pragma once
 // Parity with the authors: runs one of their fixture files through our code and measures the
 // largest absolute difference to every reference output the fixture holds: single-network
-// fixtures (NOTES §10.1) through that network, chained rollout fixtures (§10.3) through the
-// translation loop. Works on
+// fixtures through that network, chained rollout fixtures through the translation loop
+// (docs/conventions.md#parity). Works on
 // any fixture of that schema, including ones it has never seen: the network is chosen by the
 // fixture's tensors, the checkpoint by its metadata ("checkpoint", relative to the reference
 // directory).
@@ -30,12 +30,12 @@ struct ParityReport {
   bool passed() const;
 };
 
-// Tolerances of NOTES §10.1 for a float32 port.
+// Tolerances for a float32 port (docs/conventions.md#parity).
 inline constexpr double kMpnetTolerance = 5e-5;
 inline constexpr double kDiffusionTolerance = 5e-5;
 inline constexpr double kUgnetTolerance = 1e-5;
 inline constexpr double kAmnetTolerance = 1e-5;
-// The chained rollout's avatar pose (issue 6: within 1e-5 of the authors' 120 steps).
+// The chained rollout's avatar pose (goal: within 1e-5 of the authors' 120 steps).
 inline constexpr double kRolloutTolerance = 1e-5;
 
 // Throws deixis::Error naming the file when the fixture is unreadable or of an unknown schema.

@@ -1,11 +1,12 @@
 #pragma once
-// The translation loop of the authors' harness (NOTES §5.2; paper §IV.C, eq. 6–9) on network
-// vectors: per frame, MPNet reads the user's last 30 feature rows; its progression is shifted
-// into the progression window (which starts as 30 rows of (0, 0, 1), idle); UGNet reads the
-// avatar's last 30 rows (end-effectors, avatar target feature, progression) and predicts the
-// avatar's end-effectors for the next frame; when that frame arrives, the prediction is blended
-// with the user's end-effectors (eq. 8) by weights that rise while the user is not gesturing at a
-// target and fall while they are (eq. 9), and the blend becomes the avatar's row for that frame.
+// The translation loop of the authors' harness (docs/conventions.md#translation-loop; paper §IV.C,
+// eq. 6–9) on network vectors: per frame, MPNet reads the user's last 30 feature rows; its
+// progression is shifted into the progression window (which starts as 30 rows of (0, 0, 1), idle);
+// UGNet reads the avatar's last 30 rows (end-effectors, avatar target feature, progression) and
+// predicts the avatar's end-effectors for the next frame; when that frame arrives, the prediction
+// is blended with the user's end-effectors (eq. 8) by weights that rise while the user is not
+// gesturing at a target and fall while they are (eq. 9), and the blend becomes the avatar's row for
+// that frame.
 //
 // Everything is in the networks' frame, mirrored for a left-handed user (features.h does that);
 // the loop itself is hand-agnostic. It reproduces the authors' rollout fixtures
@@ -30,7 +31,7 @@ struct TranslationInput {
 
 // Blend counters of eq. 9: c ∈ [0, 20], b = c/20 (δ = 0.05). The head counter rises while
 // idle < 0.15 and gaze < 0.25, the hand counter while idle < 0.15 and deictic < 0.15; each falls
-// otherwise (thresholds of the authors' test_UGNet.py, NOTES §5.2).
+// otherwise (thresholds of the authors' test_UGNet.py, docs/conventions.md#blending).
 struct BlendCounters {
   static constexpr int kMax = 20;
   static constexpr float kIdleBelow = 0.15f;

@@ -1,12 +1,12 @@
 #pragma once
-// The non-deictic arm (ozz-style job; DESIGN §6, paper §IV.C; docs/ik.md): the hand that gestures
-// freely keeps the user's azimuth, elevation and distance from the head H (the distance scaled to
-// the avatar's size), measured in the root frame (yaw-only, −Z forward, +Y up), so it moves with
-// the body, not with the head's turns. The point is projected out of an elliptic cylinder around
-// the chest so the hand never passes through the torso (alternating with the arm's softened reach,
-// so that an arm falling short of a far point does not fall into the chest either); two-bone IK
-// takes the wrist there and the hand takes the user's wrist orientation (relative to the root)
-// within its limits.
+// The non-deictic arm (ozz-style job; docs/conventions.md#translator, paper §IV.C; docs/ik.md): the
+// hand that gestures freely keeps the user's azimuth, elevation and distance from the head H (the
+// distance scaled to the avatar's size), measured in the root frame (yaw-only, −Z forward, +Y up),
+// so it moves with the body, not with the head's turns. The point is projected out of an elliptic
+// cylinder around the chest so the hand never passes through the torso (alternating with the arm's
+// softened reach, so that an arm falling short of a far point does not fall into the chest either);
+// two-bone IK takes the wrist there and the hand takes the user's wrist orientation (relative to
+// the root) within its limits.
 
 #include <span>
 #include <string_view>

@@ -1,5 +1,5 @@
 #pragma once
-// The real transport: ENet over UDP (DESIGN §9). Two channels: reliable (ENet's reliable,
+// The real transport: ENet over UDP (docs/protocol.md §1). Two channels: reliable (ENet's reliable,
 // ordered) and tracking (unreliable; sent unsequenced so that a packet overtaken by a newer one
 // still reaches the jitter buffer, which orders by our own sequence numbers — docs/decisions.md).
 // Every tracking send is flushed at once, and ENet's packet throttle (which drops unreliable

@@ -1,5 +1,5 @@
 #pragma once
-// One site's connection to the other (DESIGN §9; docs/protocol.md, "State machine"), over any
+// One site's connection to the other (docs/protocol.md, "State machine"), over any
 // Link (ENet, or the simulated network), on the caller's clock:
 //
 //   kWaiting ─connect─▶ kConnecting ─▶ kHandshake ─welcome/join/accept─▶ kHello ─hellos─▶

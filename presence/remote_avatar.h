@@ -1,5 +1,5 @@
 #pragma once
-// The remote person's avatar in this room, one tick at a time (issue 6): their tracking frame and
+// The remote person's avatar in this room, one tick at a time: their tracking frame and
 // this room's targets go through the translator (features → MPNet → blend → UGNet → decode) and
 // the whole-avatar IK, and come out as the model poses of a skinned humanoid standing where this
 // site put it.

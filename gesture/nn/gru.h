@@ -2,11 +2,11 @@
 // One layer of a PyTorch nn.GRU with fixed sizes, run over a whole window.
 //
 // Gate order in the stacked weights is PyTorch's r | z | n, and b_hn sits *inside* the reset
-// product (torch.nn.GRU, NOTES §3.2):
+// product (torch.nn.GRU, docs/conventions.md#grus):
 //   r = σ(W_ir x + b_ir + W_hr h + b_hr)      z = σ(W_iz x + b_iz + W_hz h + b_hz)
 //   n = tanh(W_in x + b_in + r ⊙ (W_hn h + b_hn))      h' = (1 − z) ⊙ n + z ⊙ h
 // The authors' GRUs are not stateful: every call starts from h = 0 and runs over all rows of the
-// window (NOTES §3.2), so a layer has weights and no state.
+// window (docs/conventions.md#grus), so a layer has weights and no state.
 
 #include <string>
 

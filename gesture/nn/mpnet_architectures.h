@@ -1,6 +1,6 @@
 #pragma once
-// The three MPNet architectures of paper Table III, with the authors' tensor names (model.py;
-// NOTES §3, Appendix A.2). Each has load() and a const run(); Mpnet (mpnet.h) dispatches to them.
+// The three MPNet architectures of paper Table III (docs/conventions.md#mpnet), with the authors'
+// tensor names (model.py). Each has load() and a const run(); Mpnet (mpnet.h) dispatches to them.
 
 #include "gesture/nn/expert_layer.h"
 #include "gesture/nn/gru.h"
@@ -10,9 +10,10 @@
 
 namespace deixis::nn {
 
-// GRU-MoE, the paper's MPNet (NOTES §3.2). Gating: 2-layer GRU (hidden 9) over the 5 target
-// columns, softmax of its last output (no linear layer) → 9 expert weights. Recurrent module:
-// 1-layer GRU (hidden 24) over all 11 columns. Experts 24 → 12 → 12 → 3 with ELU; clamp to [0, 1].
+// GRU-MoE, the paper's MPNet (docs/conventions.md#mpnet, #mixture-of-experts). Gating: 2-layer GRU
+// (hidden 9) over the 5 target columns, softmax of its last output (no linear layer) → 9 expert
+// weights. Recurrent module: 1-layer GRU (hidden 24) over all 11 columns. Experts 24 → 12 → 12 → 3
+// with ELU; clamp to [0, 1].
 struct MpnetGruMoe {
   static constexpr int kExperts = 9;
   static constexpr int kRecurrentHidden = 24;

@@ -1,6 +1,6 @@
 #pragma once
-// Sizes the paper fixes (NOTES §3–§4). Every network input is a window of 30 rows (1 s at 30 Hz),
-// oldest row first; the output refers to the newest row.
+// Sizes the paper fixes (docs/conventions.md#mpnet, #ugnet). Every network input is a window of 30
+// rows (1 s at 30 Hz), oldest row first; the output refers to the newest row.
 
 #include <array>
 #include <span>

@@ -1,7 +1,7 @@
 #pragma once
 // torch.nn.TransformerEncoderLayer as the authors instantiate it: post-norm (norm_first = False),
 // ReLU feed-forward, LayerNorm eps 1e-5, dropout inactive (eval), no positional encoding
-// (NOTES §3.3, §4.4):
+// (docs/conventions.md#mpnet, #ugnet):
 //   x ← LayerNorm1(x + SelfAttention(x));   x ← LayerNorm2(x + W2·relu(W1·x + b1) + b2)
 // Tokens are rows. Sizes are fixed: Tokens × Dim with Heads heads of Dim/Heads, feed-forward
 // width FeedForward.

@@ -1,6 +1,6 @@
 #pragma once
-// The four UGNet architectures of paper Table IV, with the authors' tensor names (model.py;
-// NOTES §4, Appendix A.2). Each has load() and a const run(); Ugnet (ugnet.h) dispatches to them.
+// The four UGNet architectures of paper Table IV (docs/conventions.md#ugnet), with the authors'
+// tensor names (model.py). Each has load() and a const run(); Ugnet (ugnet.h) dispatches to them.
 
 #include "gesture/nn/expert_layer.h"
 #include "gesture/nn/gru.h"
@@ -13,12 +13,13 @@ namespace deixis::nn {
 using UgnetWindowMatrix = Eigen::Matrix<float, kWindowRows, kUgnetColumns, Eigen::RowMajor>;
 using ConditionVector = Eigen::Matrix<float, kConditionSize, 1>;
 
-// Newest x (24) ++ the 8 conditioning columns of every row, oldest first (NOTES §4.2).
+// Newest x (24) ++ the 8 conditioning columns of every row, oldest first
+// (docs/conventions.md#ugnet).
 ConditionVector condition_vector(UgnetWindow window);
 
-// MoE, the paper's UGNet (NOTES §4.2). Gating: 2-layer GRU (hidden 9) over the 8 conditioning
-// columns, softmax of its last output → 9 expert weights. Experts 264 → 144 → 144 → 24 with ELU
-// (144 = 24 + 240/2, model.py's operator precedence).
+// MoE, the paper's UGNet (docs/conventions.md#ugnet). Gating: 2-layer GRU (hidden 9) over the 8
+// conditioning columns, softmax of its last output → 9 expert weights. Experts 264 → 144 → 144 → 24
+// with ELU (144 = 24 + 240/2, model.py's operator precedence).
 struct UgnetMoe {
   static constexpr int kExperts = 9;
   static constexpr int kHidden = kPoseSize + (kConditionColumns * kWindowRows) / 2;
@@ -85,8 +86,9 @@ struct UgnetTransformer {
   void embed(UgnetWindow window, Tokens&& tokens, Qkv&& qkv) const;
 };
 
-// Diffusion, AMDM-style (model.py UGNet_Diffusion, NOTES §4.5): 30 steps of a denoiser that
-// predicts the clean x directly, re-noised with σ_t = √β_t between steps. The denoiser:
+// Diffusion, AMDM-style (model.py UGNet_Diffusion, docs/conventions.md#ugnet-diffusion): 30 steps
+// of a denoiser that predicts the clean x directly, re-noised with σ_t = √β_t between steps.
+// The denoiser:
 //   h = fin(c ++ x_t ++ e_t);  10 × { h = Linear(SiLU(GroupNorm16(h)) ++ x_t ++ c ++ e_t) };
 //   x0 = fco(h ++ x_t ++ c ++ e_t)
 // with c the 264-vector and e_t = time_mlp(sinusoidal(t)).

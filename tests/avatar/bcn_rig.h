@@ -1,7 +1,7 @@
 #pragma once
-// A third-party rig for tests: BCN_Epileptic.X from Debian's assimp-testmodels (DESIGN §10),
-// converted once per test program with `assimp export … -fglb2` into a scratch directory that
-// lives until exit.
+// A third-party rig for tests: BCN_Epileptic.X from Debian's assimp-testmodels
+// (docs/avatars.md#bone-names), converted once per test program with `assimp export … -fglb2` into
+// a scratch directory that lives until exit.
 
 #include <gtest/gtest.h>
 

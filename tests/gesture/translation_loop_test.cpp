@@ -1,5 +1,6 @@
-// The translation loop reproduces the authors' chained harness (NOTES §5.2, §10.3): both rollout
-// fixtures, 120 steps of MPNet MoE → progression window → UGNet MoE → blend, step by step.
+// The translation loop reproduces the authors' chained harness
+// (docs/conventions.md#translation-loop, #parity): both rollout fixtures, 120 steps of MPNet MoE →
+// progression window → UGNet MoE → blend, step by step.
 
 #include "gesture/translation_loop.h"
 

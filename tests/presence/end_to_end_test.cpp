@@ -1,4 +1,4 @@
-// Issue 6's end-to-end check (the procedure is in deictic_check.h): a synthetic *test* subject
+// The end-to-end check (the procedure is in deictic_check.h): a synthetic *test* subject
 // (never the training subject) points at or touches object X in room A; in room B, where X stands
 // elsewhere relative to the avatar, the remote avatar (translator with the authors' MoE weights +
 // whole-avatar IK on the default skinned avatar) must finish the gesture at B's X:
@@ -123,8 +123,7 @@ TEST_F(EndToEnd, WithTheProjectsOwnWeights) {
     for (const char* file : {"MPNet(MoE)(AC)80.safetensors", "UGNet(MoE)(AC)120.safetensors"}) {
       if (!fs::exists(own_weights() / hand / file)) {
         GTEST_SKIP() << "assets/weights/" << hand << "/" << file
-                     << " is not there yet: the project's own MoE weights are still training "
-                        "(issue 5)";
+                     << " is not there yet: the project's own MoE weights are still training";
       }
     }
   }

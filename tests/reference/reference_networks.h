@@ -2,9 +2,9 @@
 // A second, independent implementation of every network, in double precision and written for
 // clarity rather than speed: plain loops over std::vector<double>, one small function per PyTorch
 // operation, each network spelled out the way the authors' forward() reads (model.py,
-// ISMAR2023/model.py; restated in shared/reference/NOTES.md §3, §4, §8). It shares nothing with
-// gesture/nn except the safetensors reader, so a mistake in the fast float32 path shows up as a
-// disagreement here instead of being repeated.
+// ISMAR2023/model.py; summarised in docs/conventions.md#mpnet, #ugnet, #amnet). It shares nothing
+// with gesture/nn except the safetensors reader, so a mistake in the fast float32 path shows up as
+// a disagreement here instead of being repeated.
 //
 // It exists for the tests: against the fixtures' float64 PyTorch outputs it agrees to rounding
 // (reference_parity_test.cpp states the measured error), and it is then the yardstick for the fast
@@ -60,7 +60,7 @@ Vector concat(const std::vector<Vector>& parts);
 Vector linear(const Vector& x, const Tensor& weight, const Tensor& bias);
 
 // One layer of nn.GRU over a whole sequence from h0 = 0 (the authors' GRUs are not stateful,
-// NOTES §3.2); returns the hidden state after every row.
+// docs/conventions.md#grus); returns the hidden state after every row.
 struct GruLayerWeights {
   const Tensor& weight_ih;  // [3H, in], gates stacked r | z | n
   const Tensor& weight_hh;  // [3H, H]
@@ -77,24 +77,27 @@ Rows multi_head_attention(const Rows& tokens, int heads, const Tensor& in_proj_w
                           const Tensor& in_proj_bias, const Tensor& out_proj_weight,
                           const Tensor& out_proj_bias);
 
-// nn.TransformerEncoderLayer, post-norm, ReLU, eval mode (NOTES §3.3); `prefix` is e.g.
-// "transformer.layers.0".
+// nn.TransformerEncoderLayer, post-norm, ReLU, eval mode (docs/conventions.md#mpnet); `prefix` is
+// e.g. "transformer.layers.0".
 Rows transformer_encoder_layer(const Rows& tokens, int heads, int feed_forward,
                                const Weights& weights, const std::string& prefix);
 
-// nn.GroupNorm on one sample of C channels, eps 1e-5, per-channel affine (NOTES §4.5).
+// nn.GroupNorm on one sample of C channels, eps 1e-5, per-channel affine
+// (docs/conventions.md#ugnet-diffusion).
 Vector group_norm(const Vector& x, int groups, const Tensor& weight, const Tensor& bias);
 
-// nn.BatchNorm1d in eval mode: running statistics, eps 1e-5 (NOTES §8).
+// nn.BatchNorm1d in eval mode: running statistics, eps 1e-5 (docs/conventions.md#amnet).
 Vector batch_norm_eval(const Vector& x, const Tensor& weight, const Tensor& bias,
                        const Tensor& running_mean, const Tensor& running_var);
 
-// One layer of the authors' ExpertMLP (NOTES §3.2): W = Σ_e ω_e W_e, b = Σ_e ω_e b_e, then
-// y = x·W + b, with W stored [experts, in, out] and multiplying from the right.
+// One layer of the authors' ExpertMLP (docs/conventions.md#mixture-of-experts):
+// W = Σ_e ω_e W_e, b = Σ_e ω_e b_e, then y = x·W + b, with W stored [experts, in, out] and
+// multiplying from the right.
 Vector expert_layer(const Vector& x, const Vector& omega, const Tensor& weight, const Tensor& bias);
 
 // model.py PositionalEmbedding(dim, scale 1) of an integer time step: for k = 0 … dim/2 − 1,
-// ω_k = exp(−k·ln(10⁴)/(dim/2)); [sin(t·ω_k) …, cos(t·ω_k) …] (NOTES §4.5).
+// ω_k = exp(−k·ln(10⁴)/(dim/2)); [sin(t·ω_k) …, cos(t·ω_k) …]
+// (docs/conventions.md#ugnet-diffusion).
 Vector sinusoidal_time_embedding(int t, int dim);
 
 // ---- networks -----------------------------------------------------------------------------------
@@ -114,7 +117,7 @@ enum class Architecture {
 Architecture architecture_of(const Weights& weights);
 std::string_view architecture_name(Architecture architecture);
 
-// MPNet: a 30 × 11 window (NOTES §3.1).
+// MPNet: a 30 × 11 window (docs/conventions.md#mpnet-features).
 struct MpnetResult {
   Vector progression;  // clamped to [0, 1]
   Vector preclamp;
@@ -125,7 +128,7 @@ MpnetResult mpnet_gru_moe(const Weights& weights, const Rows& window);
 MpnetResult mpnet_mlp(const Weights& weights, const Rows& window);
 MpnetResult mpnet_transformer(const Weights& weights, const Rows& window);
 
-// UGNet: a 30 × 32 window (NOTES §4.1).
+// UGNet: a 30 × 32 window (docs/conventions.md#end-effectors).
 struct UgnetResult {
   Vector pose;          // the next frame's 24-vector
   Vector omega;         // MoE only: gating softmax (9)
@@ -135,10 +138,12 @@ UgnetResult ugnet_moe(const Weights& weights, const Rows& window);
 UgnetResult ugnet_mlp(const Weights& weights, const Rows& window);
 UgnetResult ugnet_transformer(const Weights& weights, const Rows& window);
 // `noise` holds the 30 standard-normal draws of sample_ddpm: noise[0] is the initial x, noise[i]
-// (i = 1 … 29) is added, scaled by σ_t, after the step t = 30 − i (NOTES §4.5).
+// (i = 1 … 29) is added, scaled by σ_t, after the step t = 30 − i
+// (docs/conventions.md#ugnet-diffusion).
 UgnetResult ugnet_diffusion(const Weights& weights, const Rows& window, const Rows& noise);
 
-// AMNet (ISMAR 2023): local and remote windows of 20 × 16 (NOTES §8) → 21 end-effector values.
+// AMNet (ISMAR 2023): local and remote windows of 20 × 16 (docs/conventions.md#amnet) → 21
+// end-effector values.
 Vector amnet(const Weights& weights, const Rows& local, const Rows& remote);
 
 }  // namespace deixis::reference

@@ -1,10 +1,10 @@
-// Issue 9's headset check: a user wearing a headset points at (or touches) object X in room A and
+// The headset check: a user wearing a headset points at (or touches) object X in room A and
 // the remote site's avatar points at (touches) X's copy in room B. The user is a synthetic test
 // subject (capture/, never the training subject) performed as the project's OpenXR test runtime's
 // scripted head, eye gaze and hand joints; the front end (xr/) reads them back through Debian's
 // loader with core validation as tracking frames; the site selects the targets from that tracking
 // (gesture/target_selection.h, no labels); the remote avatar translates them into room B
-// (tests/presence/deictic_check.h). Errors as in issue 6: HE, VE ≤ 5°, touch ≤ 3 cm, copy-paste
+// (tests/presence/deictic_check.h). Errors as there: HE, VE ≤ 5°, touch ≤ 3 cm, copy-paste
 // far worse.
 
 #include <gtest/gtest.h>
