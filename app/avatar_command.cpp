@@ -9,7 +9,7 @@
 #include "avatar/avatar_loader.h"
 #include "avatar/default_avatar.h"
 #include "avatar/glb_writer.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::app {
 

@@ -14,7 +14,7 @@
 #include "capture/judge.h"
 #include "capture/preview.h"
 #include "capture/tracker_noise.h"
-#include "gesture/error.h"
+#include "core/error.h"
 #include "gesture/features.h"
 
 namespace deixis::app {

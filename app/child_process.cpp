@@ -11,7 +11,7 @@
 #include <chrono>
 #include <cstring>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 extern char** environ;
 

@@ -7,6 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "sim/sim_options.h"
+#include "site/scripted_site.h"
+
 namespace deixis::app {
 
 struct ParityOptions {
@@ -29,7 +32,7 @@ struct AvatarInfoOptions {
 };
 int run_avatar_info(const AvatarInfoOptions& options);
 
-// `deixis capture …`: the synthetic capture (capture/, DESIGN §7).
+// `deixis capture …`: the synthetic capture (capture/, docs/conventions.md#synthetic-capture).
 struct CaptureGenerateOptions {
   std::filesystem::path out_dir;
   std::uint64_t seed = 1;
@@ -70,28 +73,11 @@ struct CaptureJudgeOptions {
 int run_capture_judge(const CaptureJudgeOptions& options);
 
 // Every command that hosts binds 127.0.0.1 unless --bind says otherwise; beyond loopback it needs
-// a passphrase or --open (app/endpoint.h, docs/security.md). `passphrase` fields hold
+// a passphrase or --open (site/endpoint.h, docs/security.md). `passphrase` fields hold
 // the passphrase as main.cpp read it: --passphrase, --passphrase-file, --ask-passphrase or
 // DEIXIS_PASSPHRASE.
 
-// `deixis host` and `deixis join`: one site (docs/demo.md). The site's virtual user performs its
-// script; tracking goes to the other site and the other's avatar is translated into this room
-// and rendered headlessly. Exit 0 after the run, 1 when the session fails (refused, nobody came),
-// 2 for bad files.
-struct SiteRunOptions {
-  bool host = true;
-  std::filesystem::path site;
-  std::string address = "127.0.0.1";  // host: where to listen (--bind); join: the host
-  std::uint16_t port = 7350;          // host: 0 picks a free one (printed as "port N")
-  std::string passphrase;
-  double seconds = 0.0;  // 0: as long as the virtual user's script
-  double wait = 30.0;    // s to wait for the other site
-  std::filesystem::path out_dir;
-  std::filesystem::path weights_dir;  // holds right/ and left/ with the MoE weights
-  int view_width = 640;
-  int view_height = 360;
-  bool video = true;
-};
+// `deixis host` and `deixis join` (SiteRunOptions: site/scripted_site.h).
 int run_site(const SiteRunOptions& options);
 
 // `deixis demo`: a host (site A) and a joiner (site B) as two real processes on loopback, then
@@ -147,34 +133,6 @@ struct XrRunOptions {
 };
 int run_xr(const XrRunOptions& options);
 
-// `deixis sim`: the desktop simulator (docs/sim.md). A window with the local room (site A) and
-// its virtual user, driven by mouse and keys or by the site's script, and the remote room (site
-// B) with the avatar translated from the user's tracking; B's objects are dragged with the mouse.
-// Both sites run in this process; with `network` the simulator is site A of a real session
-// (host or join, as `deixis host`/`join`/`xr`): the user streams, the other site's person comes
-// in as an avatar in room A. Exit 0 when closed or done, 1 when the window, GL or the network
-// session fails (refused, nobody came), 2 for bad flags or files.
-struct SimOptions {
-  std::filesystem::path site_a;
-  std::filesystem::path site_b;
-  std::filesystem::path weights_dir;
-  std::filesystem::path avatar;      // the avatar in B (.glb); empty: site B's
-  bool script = false;               // the user performs site A's virtual_user script
-  std::filesystem::path input;       // scripted events (JSON); fixed steps until a session starts
-  bool fixed_step = false;           // every frame advances the simulator by one 30 Hz tick
-  std::uint64_t frames = 0;          // quit after this many frames (0: no limit)
-  double seconds = 0.0;              // quit after this much simulator time (0: no limit)
-  std::filesystem::path screenshot;  // the last frame's window contents (PNG)
-  std::filesystem::path report;      // JSON: B's objects, the avatar's eye and fingertip, timings
-  int width = 1280;
-  int height = 720;
-  bool network = false;  // host or join another site
-  bool host = true;
-  std::string address = "127.0.0.1";  // host: where to listen (--bind); join: the host
-  std::uint16_t port = 7350;          // host: 0 picks a free one (printed as "port N")
-  std::string passphrase;
-  double wait = 30.0;  // s for the other site to come
-};
 int run_sim(const SimOptions& options);
 
 }  // namespace deixis::app

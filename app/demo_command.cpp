@@ -15,8 +15,8 @@
 
 #include "app/child_process.h"
 #include "app/commands.h"
-#include "app/endpoint.h"
-#include "gesture/error.h"
+#include "core/error.h"
+#include "site/endpoint.h"
 
 namespace deixis::app {
 

@@ -7,9 +7,9 @@
 #include <fstream>
 
 #include "app/commands.h"
+#include "core/error.h"
 #include "eval/evaluation.h"
 #include "eval/figure.h"
-#include "gesture/error.h"
 
 namespace deixis::app {
 

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "app/commands.h"
-#include "app/endpoint.h"
+#include "site/endpoint.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "app/commands.h"
-#include "gesture/error.h"
+#include "core/error.h"
 #include "gesture/parity.h"
 
 namespace deixis::app {

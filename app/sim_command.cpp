@@ -4,7 +4,7 @@
 // the user's tracking into, at 30 Hz; below, the ImGui panel. The mouse and keys drive the user
 // (or the site's script does) and move B's objects; the avatar adapts on the next tick.
 // With --host / --join, or from the panel's network form, the simulator is site A of a real
-// session (app/sim_network.h): the user streams to the other site, whose person stands in the
+// session (sim/sim_network.h): the user streams to the other site, whose person stands in the
 // left view where A's remote avatar does; the right view keeps the local translation into B as a
 // preview.
 
@@ -20,23 +20,23 @@
 #include <GLFW/glfw3.h>
 
 #include "app/commands.h"
-#include "app/moe_weights.h"
-#include "app/pose_copy.h"
-#include "app/sim_controls.h"
-#include "app/sim_history.h"
-#include "app/sim_imgui.h"
-#include "app/sim_network.h"
-#include "app/sim_network_form.h"
-#include "app/sim_panel.h"
-#include "app/sim_time.h"
-#include "app/sim_user.h"
-#include "app/sim_views.h"
 #include "avatar/avatar_loader.h"
 #include "capture/virtual_user.h"
-#include "gesture/error.h"
+#include "core/error.h"
+#include "presence/pose_copy.h"
 #include "presence/remote_avatar.h"
 #include "render/image.h"
 #include "render/window_context.h"
+#include "sim/sim_controls.h"
+#include "sim/sim_history.h"
+#include "sim/sim_imgui.h"
+#include "sim/sim_network.h"
+#include "sim/sim_network_form.h"
+#include "sim/sim_panel.h"
+#include "sim/sim_time.h"
+#include "sim/sim_user.h"
+#include "sim/sim_views.h"
+#include "site/moe_weights.h"
 
 namespace deixis::app {
 
@@ -45,7 +45,7 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-constexpr double kTick = SimTime::kTick;     // s: tracking and translation (DESIGN §3)
+constexpr double kTick = SimTime::kTick;     // s: 30 Hz (docs/conventions.md#rates-and-windows)
 constexpr double kScriptMinSeconds = 300.0;  // a --script user's performance, at least
 constexpr float kRayShownAbove = 0.5f;       // deictic progression above which rays show
 constexpr int kMaxTicksPerFrame = 5;         // a stalled frame does not snowball

@@ -1,9 +1,9 @@
 // `deixis xr`: the headset user's side through OpenXR (docs/xr.md). Each frame the headset
 // user's tracking is read from the runtime and both eyes see this room, its objects and the
 // remote person's avatar. The remote person is either another site (--host / --join: the user's
-// tracking goes out at 30 Hz with targets selected from it, app/site_peer.h) or, without a network,
-// the other site's scripted virtual user performed locally; either way presence::RemoteAvatar
-// translates them into this room at 30 Hz of display time.
+// tracking goes out at 30 Hz with targets selected from it, site/site_peer.h) or, without a
+// network, the other site's scripted virtual user performed locally; either way
+// presence::RemoteAvatar translates them into this room at 30 Hz of display time.
 
 #include <cstdio>
 #include <exception>
@@ -11,14 +11,10 @@
 #include <string>
 
 #include "app/commands.h"
-#include "app/moe_weights.h"
-#include "app/site_config.h"
-#include "app/site_peer.h"
-#include "app/site_session.h"
 #include "avatar/avatar_loader.h"
 #include "capture/subject.h"
 #include "capture/virtual_user.h"
-#include "gesture/error.h"
+#include "core/error.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
 #include "gesture/target_selection.h"
@@ -27,6 +23,10 @@
 #include "presence/remote_avatar.h"
 #include "render/headless_context.h"
 #include "render/renderer.h"
+#include "site/moe_weights.h"
+#include "site/site_config.h"
+#include "site/site_peer.h"
+#include "site/site_session.h"
 #include "xr/frame_loop.h"
 #include "xr/gl_session.h"
 #include "xr/input.h"
@@ -39,7 +39,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kTick = 1.0 / 30.0;  // s: translation rate (DESIGN §3)
+constexpr double kTick = 1.0 / 30.0;  // s: translation rate (docs/conventions.md#rates-and-windows)
 
 using Networks = MoeNetworks;
 

@@ -14,8 +14,8 @@
 #include "avatar/gltf_nodes.h"
 #include "avatar/gltf_vrm.h"
 #include "avatar/rig_measurements.h"
-#include "gesture/error.h"
-#include "gesture/tracking.h"
+#include "core/error.h"
+#include "core/tracking.h"
 
 namespace deixis::avatar {
 

@@ -2,7 +2,7 @@
 
 #include <utility>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::avatar {
 

@@ -7,7 +7,7 @@
 
 #include "avatar/glb_writer.h"
 #include "avatar/shapes.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::avatar {
 

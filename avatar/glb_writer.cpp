@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::avatar {
 

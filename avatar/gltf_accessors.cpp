@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::avatar::gltf {
 

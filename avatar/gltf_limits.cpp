@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "gesture/error.h"
-#include "gesture/io/json_guard.h"
+#include "core/error.h"
+#include "core/io/json_guard.h"
 
 namespace deixis::avatar::gltf {
 

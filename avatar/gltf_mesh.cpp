@@ -9,7 +9,7 @@
 #include "avatar/gltf_accessors.h"
 #include "avatar/gltf_limits.h"
 #include "avatar/influences.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::avatar::gltf {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::avatar::gltf {
 

@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "avatar/bone_names.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::avatar::gltf {
 

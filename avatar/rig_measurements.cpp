@@ -4,7 +4,7 @@
 #include <limits>
 #include <vector>
 
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 
 namespace deixis::avatar {
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "gesture/math/pose.h"
+#include "core/math/pose.h"
 
 namespace deixis::avatar {
 

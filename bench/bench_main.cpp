@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "gesture/io/machine.h"
+#include "core/io/machine.h"
 
 namespace {
 

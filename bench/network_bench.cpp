@@ -1,13 +1,13 @@
 // Every network of the paper, batch 1, one thread, on real windows from the authors' fixtures.
 // The paper's goal for this code base: MPNet MoE + UGNet MoE ≤ 40 µs per tick on one core (the
-// authors' PyTorch networks: 0.82 + 0.66 ms on the same machine, DESIGN.md §8).
+// authors' PyTorch networks: 0.82 + 0.66 ms on the same machine; docs/conventions.md#goals).
 
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
 #include <vector>
 
-#include "gesture/io/safetensors.h"
+#include "core/io/safetensors.h"
 #include "gesture/nn/amnet.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"

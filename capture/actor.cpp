@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "capture/completion.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::capture {
 

@@ -18,7 +18,7 @@
 
 #include "capture/labelling.h"
 #include "capture/motion.h"
-#include "gesture/target_map.h"
+#include "core/target_map.h"
 
 namespace deixis::capture {
 

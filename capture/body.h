@@ -12,7 +12,7 @@
 #include <array>
 
 #include "capture/subject.h"
-#include "gesture/math/pose.h"
+#include "core/math/pose.h"
 
 namespace deixis::capture {
 

@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "capture/body.h"
-#include "gesture/target_map.h"
+#include "core/target_map.h"
 
 namespace deixis::capture {
 

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::capture {
 

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <cstring>
 
-#include "gesture/error.h"
+#include "core/error.h"
+#include "core/io/safetensors.h"
 #include "gesture/features.h"
-#include "gesture/io/safetensors.h"
 
 namespace deixis::capture {
 

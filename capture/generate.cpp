@@ -10,7 +10,7 @@
 #include "capture/script.h"
 #include "capture/speed.h"
 #include "capture/tracker_noise.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::capture {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "capture/dataset.h"
-#include "gesture/error.h"
+#include "core/error.h"
 #include "gesture/features.h"
 #include "gesture/nn/mpnet.h"
 
@@ -62,7 +62,8 @@ std::vector<Labels> predict_progressions(const nn::Mpnet& net, std::span<const f
   std::vector<Labels> out(n);
   std::array<float, nn::kMpnetWindowSize> window{};
   for (std::size_t t = 0; t < n; ++t) {
-    // Rows t−29 … t; the first row stands in for rows before the sequence (29 copies, NOTES §7.1).
+    // Rows t−29 … t; the first row stands in for rows before the sequence (29 copies, as MPE
+    // does: docs/eval.md#what-each-number-is).
     for (int r = 0; r < kRows; ++r) {
       const long source = std::max(0L, static_cast<long>(t) - (kRows - 1) + r);
       std::copy_n(rows.begin() + source * kCols, kCols, window.begin() + r * kCols);

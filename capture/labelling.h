@@ -7,14 +7,15 @@
 // out of the upright posture (the deictic hand 0.25 m from its rest position, the paper's own
 // threshold for the distance feature d), and rises back to 1 over the 0.5 s after the person is
 // upright again. The head and hand targets change at the onset of the movement toward the new
-// target. Every ramp's start and end is a phase key (the authors' key rows, NOTES §7.3).
+// target. Every ramp's start and end is a phase key (the authors' key rows,
+// docs/dataset.md#tensors).
 
 #include <algorithm>
 #include <functional>
 #include <vector>
 
 #include "capture/timeline.h"
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 
 namespace deixis::capture {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::capture {
 

@@ -1,11 +1,11 @@
 #pragma once
 // One instant of the motion model: where the torso, head, eyes and wrists are (the posture), the
-// skeleton's joints it implies, and what a tracker reports of it (gesture/tracking.h).
+// skeleton's joints it implies, and what a tracker reports of it (core/tracking.h).
 
 #include <array>
 
 #include "capture/body.h"
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 
 namespace deixis::capture {
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "capture/raster.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::capture {
 

@@ -1,7 +1,8 @@
 #pragma once
 // One recorded sequence: what a tracker reports at 30 Hz, the targets, the exact progression
 // labels, and (for previews and tests only) the generator's skeleton. Datasets store the tracking,
-// targets and labels; nothing downstream of the capture reads `joints` (DESIGN §7).
+// targets and labels; nothing downstream of the capture reads `joints`
+// (docs/conventions.md#synthetic-capture).
 
 #include <array>
 #include <cstdint>
@@ -10,12 +11,13 @@
 
 #include "capture/category.h"
 #include "capture/posture.h"
-#include "gesture/target_map.h"
-#include "gesture/tracking.h"
+#include "core/target_map.h"
+#include "core/tracking.h"
 
 namespace deixis::capture {
 
-inline constexpr double kFrameRate = 30.0;  // Hz: the networks' rate (DESIGN §3)
+// The networks' rate (docs/conventions.md#rates-and-windows).
+inline constexpr double kFrameRate = 30.0;  // Hz
 
 using Labels = std::array<float, 3>;  // progression (gaze, deictic, idle), paper §III.B
 

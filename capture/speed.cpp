@@ -5,7 +5,7 @@
 #include <functional>
 
 #include "capture/pchip.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::capture {
 

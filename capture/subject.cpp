@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::capture {
 
@@ -15,7 +15,8 @@ Subject make(std::string name, float height, float arm, float shoulders, Hand ha
   return Subject{std::move(name), height, arm, shoulders, hand, eye, speed, style};
 }
 
-// Test subjects follow the paper's five (§V; NOTES §7.1: 173 and 174 use the left-hand weights).
+// Test subjects follow the paper's five (§V; 173 and 174 are left-handed and use the left-hand
+// weights: docs/conventions.md#synthetic-capture).
 // Arm lengths are plausible for their heights (≈ 0.44 × height, ± individual variation); eye
 // dominance is mixed and crossed with handedness; speed and style differ from the training
 // subject, who was asked for a neutral style while the others were given no guidance.

@@ -1,16 +1,17 @@
 #pragma once
-// The people the synthetic capture records (DESIGN §7): body size, handedness, eye dominance,
-// speed and movement style. One training subject as in the paper (170 cm, 74 cm arm,
-// right-handed, right-eye dominant), the paper's five test subjects (161, 172, 173, 174, 180 cm;
-// 173 and 174 left-handed; mixed eye dominance) and extra validation subjects for the FMD
-// autoencoder. Test and validation subjects differ from the training subject in body *and* seed.
+// The people the synthetic capture records (docs/conventions.md#synthetic-capture): body size,
+// handedness, eye dominance, speed and movement style. One training subject as in the paper
+// (170 cm, 74 cm arm, right-handed, right-eye dominant), the paper's five test subjects (161, 172,
+// 173, 174, 180 cm; 173 and 174 left-handed; mixed eye dominance) and extra validation subjects
+// for the FMD autoencoder. Test and validation subjects differ from the training subject in body
+// *and* seed.
 
 #include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
 
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 
 namespace deixis::capture {
 

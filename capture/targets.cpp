@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "capture/actor.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::capture {
 

@@ -5,7 +5,7 @@
 
 #include "capture/actor.h"
 #include "capture/recorder.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::capture {
 

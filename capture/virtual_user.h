@@ -12,9 +12,9 @@
 #include <span>
 #include <vector>
 
-#include "capture/script_step.h"
 #include "capture/sequence.h"
 #include "capture/subject.h"
+#include "core/script_step.h"
 
 namespace deixis::capture {
 
@@ -22,17 +22,6 @@ struct VirtualUserScene {
   Pose T_world_floor;  // where the person stands: a floor point, yaw only (0 faces −Z)
   std::span<const TargetObject> objects;  // the room's objects (ids ≥ 1)
   Vec3 partner_head = Vec3::Zero();       // target 0: the other person's (avatar's) eyes
-};
-
-struct StepTiming {
-  std::size_t step = 0;  // index into the script
-  int cycle = 0;         // which repetition of the script
-  ScriptStep::Action action = ScriptStep::Action::kRest;
-  TargetId target = kNoTarget;
-  double start = 0.0;     // s: the step begins
-  double complete = 0.0;  // s: its completion state (gaze settled, reach complete, upright,
-                          // last free-form stroke ended)
-  double end = 0.0;       // s: complete + the step's seconds
 };
 
 struct ScriptPerformance {

@@ -17,11 +17,11 @@
 #include <thread>
 #include <utility>
 
+#include "core/error.h"
+#include "core/io/machine.h"
 #include "eval/call_timing.h"
 #include "eval/encoder_report.h"
 #include "eval/parallel.h"
-#include "gesture/error.h"
-#include "gesture/io/machine.h"
 
 namespace deixis::eval {
 
@@ -535,7 +535,7 @@ void add_notes(Tables& t, const EvalOptions& o, bool have_encoder) {
       "MPE: mean |p̂ − p| over frames and the three channels, every sequence of every category "
       "prefixed with 29 copies of its first row (NOTES §7.1).",
       "SS on the test subjects' two-target sequences (the authors used their training subject's, "
-      "NOTES §7.2; issue 8 forbids numbers from the training subject)."};
+      "NOTES §7.2; no number may come from the training subject)."};
   t.four.notes = {
       "DIP: all (user, avatar) pairs of the single-target categories, onset → completion "
       "aligned by PCHIP, read 10 frames after the completion state (NOTES §7.3; "

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "gesture/error.h"
-#include "gesture/math/rotation_6d.h"
+#include "core/error.h"
+#include "core/math/rotation_6d.h"
 
 namespace deixis::eval {
 

@@ -1,19 +1,19 @@
 #pragma once
 // The paper's metrics (§V.A, §V.C–D) exactly as the authors' evaluation code computes them
-// (NOTES §7): pure functions on network vectors and poses, so each can be checked against
-// hand-computed cases (tests/eval/metrics_test.cpp). Angles are reported in degrees and
-// positions in centimetres here only; everything upstream is radians and metres.
+// (docs/eval.md#what-each-number-is): pure functions on network vectors and poses, so each can be
+// checked against hand-computed cases (tests/eval/metrics_test.cpp). Angles are reported in degrees
+// and positions in centimetres here only; everything upstream is radians and metres.
 
 #include <array>
 #include <span>
 #include <vector>
 
-#include "gesture/math/network_frame.h"
+#include "core/math/network_frame.h"
 #include "gesture/nn/shapes.h"
 
 namespace deixis::eval {
 
-// ---- MPNet: motion progression error (NOTES §7.1) ------------------------------------------
+// ---- MPNet: motion progression error (docs/eval.md#what-each-number-is) --------------------
 
 // Mean per-frame |p̂ − p| per channel (gaze, deictic, idle); Total is the mean of the three.
 struct ProgressionError {
@@ -24,11 +24,11 @@ struct ProgressionError {
 ProgressionError progression_error(std::span<const nn::Progression> predicted,
                                    std::span<const nn::Progression> labels);
 
-// ---- DIP: deictic intention preservation (NOTES §7.3) --------------------------------------
+// ---- DIP: deictic intention preservation (docs/eval.md#what-each-number-is) ----------------
 
 // The head, hand and index fingertip of end-effectors x, composed with the authors' recipe
-// (6D decoded without orthogonalisation, NOTES §2.3): fingertip_O = R_head·(R_hand·f + p_hand) +
-// p_head, all relative to root O in the network frame.
+// (6D decoded without orthogonalisation, docs/conventions.md#6d-rotations): fingertip_O =
+// R_head·(R_hand·f + p_hand) + p_head, all relative to root O in the network frame.
 struct DeicticChain {
   Vec3 head;       // H relative to O
   Vec3 fingertip;  // index fingertip relative to O
@@ -47,7 +47,7 @@ PointingError pointing_error(const DeicticChain& chain, const Vec3& target_in_ro
 // Positional error (cm) between the fingertip and the touch target: PE.
 double touching_error_cm(const DeicticChain& chain, const Vec3& target_in_root);
 
-// ---- FMD: Fréchet motion distance (NOTES §7.5) ---------------------------------------------
+// ---- FMD: Fréchet motion distance (docs/eval.md#what-each-number-is) -----------------------
 
 // |μ_r − μ_g|² + tr(Σ_r + Σ_g − 2·(Σ_r Σ_g)^½) between two sets of embeddings (rows), covariances
 // with N − 1. The matrix square root's trace is computed as Σ √λ_i of Σ_r^½ Σ_g Σ_r^½ (symmetric
@@ -55,7 +55,7 @@ double touching_error_cm(const DeicticChain& chain, const Vec3& target_in_root);
 double frechet_distance(std::span<const std::vector<double>> real,
                         std::span<const std::vector<double>> generated);
 
-// ---- Robustness to missed tracking (NOTES §7.6) --------------------------------------------
+// ---- Robustness to missed tracking (docs/eval.md#what-each-number-is) ----------------------
 
 // Per-frame head and hand (root-relative head, head-relative hand: x[3..20]) of two runs, clean
 // and noisy; errors are the mean over frames of the head and hand errors averaged.

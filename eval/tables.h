@@ -50,7 +50,7 @@ struct Report {
   std::string data_dir;
   bool quick = false;
   double wall_seconds = 0.0;
-  std::string machine;                // where wall_seconds was spent (gesture/io/machine.h)
+  std::string machine;                // where wall_seconds was spent (core/io/machine.h)
   std::vector<std::string> subjects;  // "161", "173 (L)"
   std::vector<Table> tables;
   std::vector<Figure5Series> figure5;

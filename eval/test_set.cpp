@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gesture/error.h"
-#include "gesture/io/safetensors.h"
+#include "core/error.h"
+#include "core/io/safetensors.h"
 
 namespace deixis::eval {
 
@@ -17,7 +17,7 @@ const std::string& metadata(const SafetensorsFile& file, const char* key) {
   return file.metadata_value(key);
 }
 
-// The guard of issue 8: a training set or the training subject's data is refused outright, so
+// The held-out guard: a training set or the training subject's data is refused outright, so
 // that no reported number can come from the subject the networks were trained on.
 void refuse_training_data(const SafetensorsFile& file) {
   const std::string& set = metadata(file, "set");

@@ -1,10 +1,11 @@
 #pragma once
 // One held-out subject's capture dataset (docs/dataset.md) as the evaluation reads it: the
 // validated dataset plus what a tracker and a labeller would also know per sequence (root O,
-// upright wrist positions, body), and nothing of the generator's hidden state (DESIGN §7).
+// upright wrist positions, body), and nothing of the generator's hidden state
+// (docs/conventions.md#synthetic-capture).
 //
-// The guard of issue 8 lives here: no number may come from a training subject, so a file of the
-// training set or of subject 170 (the training subject, DESIGN §7) is refused before it is read.
+// The held-out guard lives here: no number may come from a training subject, so a file of the
+// training set or of subject 170 (the training subject) is refused before it is read.
 
 #include <array>
 #include <filesystem>
@@ -14,15 +15,16 @@
 
 #include "capture/category.h"
 #include "capture/dataset.h"
+#include "core/tracking.h"
 #include "gesture/features.h"
-#include "gesture/tracking.h"
 
 namespace deixis::eval {
 
-// The training subject of DESIGN §7; datasets of this subject are never evaluated.
+// The training subject (docs/conventions.md#synthetic-capture); its datasets are never evaluated.
 inline constexpr const char* kTrainingSubject = "170";
-// The avatar of the authors' protocol has the training subject's size (NOTES §5.2: scale =
-// user/avatar size ratio, 0.9471 for 161 cm … 1.0588 for 180 cm).
+// The avatar of the authors' protocol has the training subject's size
+// (docs/conventions.md#blending: scale = user/avatar size ratio, 0.9471 for 161 cm … 1.0588 for
+// 180 cm).
 inline constexpr float kAvatarHeight = 1.70f;
 
 class TestSet {
@@ -52,10 +54,11 @@ class TestSet {
   std::array<float, 3> labels(std::size_t s, std::size_t k) const;
   bool phase_key(std::size_t s, std::size_t k) const;
 
-  // The hand target's position relative to the sequence's root O, network frame (DESIGN §3).
+  // The hand target's position relative to the sequence's root O, in the network frame
+  // (docs/conventions.md#network-frame).
   Vec3 hand_target_in_root(std::size_t s, std::size_t k) const;
   // The person's calibration for sequence s and the tracking frame k as recorded (for
-  // perturbing the tracking and recomputing the network columns, robustness §7.6).
+  // perturbing the tracking and recomputing the network columns in the robustness runs).
   const BodyCalibration& body(std::size_t s) const { return bodies_[s]; }
   TrackingFrame tracking(std::size_t s, std::size_t k) const;
 

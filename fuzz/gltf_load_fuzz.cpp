@@ -15,7 +15,7 @@
 #include <string>
 
 #include "avatar/avatar_loader.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace {
 

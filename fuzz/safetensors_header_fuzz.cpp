@@ -18,8 +18,8 @@
 #include <string_view>
 #include <vector>
 
-#include "gesture/error.h"
-#include "gesture/io/safetensors.h"
+#include "core/error.h"
+#include "core/io/safetensors.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// libFuzzer target for parse_input_script (app/sim_input.h), the scripted input of `deixis sim
+// libFuzzer target for parse_input_script (sim/sim_input.h), the scripted input of `deixis sim
 // --input FILE`: every input must either parse into a bounded, time-ordered list of events that
 // plays without error, or be refused with a deixis::Error naming the file. Seeds
 // (fuzz/corpus/sim_input/): a click, a drag, keys and text, and hostile files (deep nesting,
@@ -11,8 +11,8 @@
 #include <string>
 #include <string_view>
 
-#include "app/sim_input.h"
-#include "gesture/error.h"
+#include "core/error.h"
+#include "sim/sim_input.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// libFuzzer target for parse_site_config (app/site_config.h): a site's configuration is a file
+// libFuzzer target for parse_site_config (site/site_config.h): a site's configuration is a file
 // that may come from anywhere, and its site name goes on the wire in the hello. Every input must
 // either parse into a configuration whose site name the wire accepts, or be refused with a
 // deixis::Error naming the file. Relative paths resolve against the repository's assets/sites/ (so
@@ -12,9 +12,9 @@
 #include <string>
 #include <string_view>
 
-#include "app/site_config.h"
-#include "gesture/error.h"
-#include "gesture/io/text_rules.h"
+#include "core/error.h"
+#include "core/io/text_rules.h"
+#include "site/site_config.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// libFuzzer target for parse_target_map (gesture/target_map.h), which reads a room's target map
+// libFuzzer target for parse_target_map (core/target_map.h), which reads a room's target map
 // from a file that may come from anywhere and whose names later go on the wire: every input must
 // either parse into a map whose objects and names the wire accepts, or be refused with a
 // deixis::Error naming the file. Seeds (fuzz/corpus/target_map/): the demo rooms and hostile files
@@ -11,9 +11,9 @@
 #include <string>
 #include <string_view>
 
-#include "gesture/error.h"
-#include "gesture/io/text_rules.h"
-#include "gesture/target_map.h"
+#include "core/error.h"
+#include "core/io/text_rules.h"
+#include "core/target_map.h"
 
 namespace {
 

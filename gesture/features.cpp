@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "gesture/math/rotation_6d.h"
+#include "core/math/rotation_6d.h"
 
 namespace deixis {
 

@@ -1,26 +1,29 @@
 #pragma once
 // The feature code shared by the runtime and the dataset writer (one implementation): from a
 // person's tracking frame and calibration, MPNet's 11 inputs and the 24 end-effectors, exactly as
-// DESIGN §4 and NOTES §2–§4 define them; and back from end-effectors to world poses for IK.
+// docs/conventions.md defines them (#mpnet-features, #end-effectors); and back from end-effectors
+// to world poses for IK.
 //
 // Conventions: angles in radians; vectors entering or leaving a network pass through the
-// network-frame adapter (gesture/math/network_frame.h). A person is seen as they are: a
+// network-frame adapter (core/math/network_frame.h). A person is seen as they are: a
 // left-handed person's deictic hand is their left hand, in their own (unmirrored) view, which is
 // what left-hand weights expect, because they are trained on the mirror image of right-handed
-// data (paper §III.C; NOTES §2.4; docs/decisions.md §17). So a left-handed person needs the
-// left-hand weights; the mirroring itself happens only where training data is made.
+// data (paper §III.C; docs/conventions.md#left-hand-mirroring; docs/decisions.md §17). So a
+// left-handed person needs the left-hand weights; the mirroring itself happens only where training
+// data is made.
 
 #include <array>
 
-#include "gesture/math/network_frame.h"
-#include "gesture/tracking.h"
+#include "core/end_effector_poses.h"
+#include "core/math/network_frame.h"
+#include "core/tracking.h"
 
 namespace deixis {
 
 inline constexpr int kMpnetFeatureCount = 11;
 using MpnetFeatureRow = std::array<float, kMpnetFeatureCount>;
 
-// Columns of an MPNet row (NOTES §3.1).
+// Columns of an MPNet row (docs/conventions.md#mpnet-features).
 namespace mf {
 inline constexpr int kEyeToHeadTarget = 0;     // ET^H: gaze vs H→head target
 inline constexpr int kHeadToHeadTarget = 1;    // FT^H: head forward vs H→head target
@@ -37,8 +40,8 @@ inline constexpr float kNearRestDistance = 0.25f;
 // Unsigned angle between two vectors in [0, π]; 0 when either is (near) zero.
 float unsigned_angle(const Vec3& a, const Vec3& b);
 
-// The target feature (θ^H, φ^H, θ^R, φ^R, r^R) of two world positions seen from a root (NOTES
-// §2.4), in the network frame.
+// The target feature (θ^H, φ^H, θ^R, φ^R, r^R) of two world positions seen from a root, in the
+// network frame (docs/conventions.md#target-feature).
 TargetFeature target_feature_from_root(const Pose& T_world_root, const Vec3& head_target_world,
                                        const Vec3& hand_target_world);
 
@@ -53,12 +56,7 @@ EndEffectors end_effectors(const TrackingFrame& frame, const BodyCalibration& bo
 // World poses decoded from end-effectors x (as the networks produce them, network frame) for a
 // body whose root is T_world_root; the wrist is the deictic hand's. Rotations are decoded with
 // Gram–Schmidt (always proper). The input of IK.
-struct EndEffectorPoses {
-  Vec3 gaze;           // unit, world
-  Pose T_world_head;   // H
-  Pose T_world_wrist;  // the deictic hand's wrist
-  Vec3 index_tip;      // world
-};
+// (EndEffectorPoses: core/end_effector_poses.h, shared with ik/.)
 EndEffectorPoses decode_end_effectors(const EndEffectors& x, const Pose& T_world_root);
 
 }  // namespace deixis

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "gesture/error.h"
-#include "gesture/io/safetensors.h"
+#include "core/error.h"
+#include "core/io/safetensors.h"
 #include "gesture/nn/amnet.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
@@ -188,9 +188,9 @@ void run_amnet(const SafetensorsFile& fixture, const std::filesystem::path& chec
   compare_all(fixture, out, kAmnetTolerance, report);
 }
 
-// A chained rollout fixture (NOTES §10.3): the translation loop over 120 steps. Arrays with 150
-// rows are padded-frame indexed (rows 0–29 copy the first real frame); step t reads rows t…t+29
-// and writes the avatar's row t+30.
+// A chained rollout fixture (docs/conventions.md#parity): the translation loop over 120 steps.
+// Arrays with 150 rows are padded-frame indexed (rows 0–29 copy the first real frame); step t reads
+// rows t…t+29 and writes the avatar's row t+30.
 void run_rollout(const SafetensorsFile& fixture, const std::filesystem::path& reference_dir,
                  ParityReport& report) {
   const std::string& checkpoints = fixture.metadata_value("checkpoints");

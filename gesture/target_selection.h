@@ -19,8 +19,8 @@
 //
 // Nothing is allocated; state is the current pair of targets.
 
-#include "gesture/target_map.h"
-#include "gesture/tracking.h"
+#include "core/target_map.h"
+#include "core/tracking.h"
 
 namespace deixis {
 

@@ -1,8 +1,8 @@
 #pragma once
-// The translator of one remote person (DESIGN §6; issue 6): every tick it takes that person's
-// tracking frame (from their room) and this room's targets, and returns where the person's avatar
-// in *this* room has its head, eyes, deictic hand and index fingertip, so that it looks, points
-// and touches at this room's copies of the objects while free-form gestures pass through.
+// The translator of one remote person (docs/conventions.md#translator): every tick it takes that
+// person's tracking frame (from their room) and this room's targets, and returns where the person's
+// avatar in *this* room has its head, eyes, deictic hand and index fingertip, so that it looks,
+// points and touches at this room's copies of the objects while free-form gestures pass through.
 //
 //   tracking frame ──features.h──▶ MPNet row, user x ─┐
 //   this room's target positions ──▶ avatar target ───┴─▶ TranslationLoop ─▶ avatar x
@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <random>
 
-#include "gesture/target_map.h"
+#include "core/target_map.h"
 #include "gesture/translation_loop.h"
 
 namespace deixis {
@@ -41,7 +41,7 @@ struct AvatarFrame {
   EndEffectorPoses deictic;  // head, gaze, deictic wrist and index fingertip, this room's world
   // The non-deictic wrist relative to the head H, in the user's root frame (yaw-only, so the hand
   // moves with the body and not with the head's turns), its offset scaled to the avatar's size:
-  // IK keeps its azimuth, elevation and distance from H (DESIGN §6).
+  // IK keeps its azimuth, elevation and distance from H (docs/conventions.md#translator).
   Pose other_wrist_from_head;
   TargetId hand_target = kNoTarget;  // what the person's hand designates (held with the frame)
   nn::Progression progression{};

@@ -7,7 +7,7 @@
 // 170 cm) unless given; the rest wrists where the tracked hands hang, or the default posture
 // scaled to the stature when a hand is not tracked or not hanging.
 
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 
 namespace deixis {
 

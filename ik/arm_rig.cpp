@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "ik/rotations.h"
 #include "ik/two_bone_job.h"
 #include "ik/wrist_job.h"

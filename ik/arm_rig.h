@@ -11,7 +11,7 @@
 #include <array>
 #include <span>
 
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 #include "ik/humanoid.h"
 #include "ik/joint_limits.h"
 

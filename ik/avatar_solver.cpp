@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "ik/eye_job.h"
 #include "ik/job_validation.h"
 #include "ik/lean_job.h"

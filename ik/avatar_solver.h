@@ -28,7 +28,7 @@
 #include <string_view>
 #include <vector>
 
-#include "gesture/features.h"
+#include "core/end_effector_poses.h"
 #include "ik/arm_rig.h"
 #include "ik/chest_cylinder.h"
 #include "ik/deictic_arm_job.h"

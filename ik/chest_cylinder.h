@@ -7,7 +7,7 @@
 // axis), x points to the avatar's right and z backward. Its cross-section is an ellipse with
 // semi-axes half_width (x) and half_depth (z); it spans bottom ≤ y ≤ top.
 
-#include "gesture/math/pose.h"
+#include "core/math/pose.h"
 
 namespace deixis::ik {
 

@@ -3,7 +3,7 @@
 // det +1) and never NaN for finite input: degenerate cases (zero vectors, antiparallel vectors,
 // rotations by π) pick a documented fallback instead of dividing by zero.
 
-#include "gesture/math/pose.h"
+#include "core/math/pose.h"
 
 namespace deixis::ik {
 

@@ -2,7 +2,7 @@
 
 #include <array>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::ik {
 

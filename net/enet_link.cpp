@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::net {
 

@@ -1,6 +1,6 @@
 #pragma once
-// The receiver's jitter buffer for one remote person's tracking (DESIGN §9), on the caller's clock
-// (every call takes `now`; nothing reads a clock).
+// The receiver's jitter buffer for one remote person's tracking (docs/protocol.md §8), on the
+// caller's clock (every call takes `now`; nothing reads a clock).
 //
 // Each frame is played at   sender time + clock offset + delay,   where the clock offset is the
 // transit (arrival − sender time) of the fastest frames: the third smallest over the last 4–8 s
@@ -10,10 +10,11 @@
 // arriving too late (kLateStreak in a row: the sender's clock stepped back, the route got longer),
 // the offset starts again from the latest transit. Frames come out in sequence
 // order; each sequence number comes out exactly once, as a frame or, when it did not arrive in
-// time, as missed tracking (the translator then holds the last valid frame, DESIGN §8). A frame
-// that arrives after its turn is late and dropped; one that arrives twice is a duplicate and
-// dropped. When nothing has arrived for `stop_after`, the stream is reported stopped (kNoStream:
-// hide the avatar, never freeze it) until frames arrive again.
+// time, as missed tracking (the translator then holds the last valid frame,
+// docs/conventions.md#translator). A frame that arrives after its turn is late and dropped; one
+// that arrives twice is a duplicate and dropped. When nothing has arrived for `stop_after`, the
+// stream is reported stopped (kNoStream: hide the avatar, never freeze it) until frames arrive
+// again.
 //
 // Sequence numbers come from the network: every comparison is serial-number arithmetic (RFC 1982)
 // on unsigned 32-bit differences, so wrapping at 2^32 is normal and no value, however far off,
@@ -51,12 +52,12 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 
 namespace deixis::net {
 
 struct JitterConfig {
-  double frame_period = 1.0 / 30.0;  // s; DESIGN §3: tracking ticks at 30 Hz
+  double frame_period = 1.0 / 30.0;  // s: the 30 Hz tick (docs/conventions.md#rates-and-windows)
   // Playout delay behind the least-delayed frames (s). 50 ms: 1.5 ticks; absorbs jitter up to
   // 50 ms (docs/protocol.md, "Jitter buffer", and the figure in bench/net_bench.cpp).
   double delay = 0.050;

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "gesture/target_map.h"
-#include "gesture/tracking.h"
+#include "core/target_map.h"
+#include "core/tracking.h"
 #include "net/protocol.h"
 
 namespace deixis::net {
@@ -67,7 +67,8 @@ struct Accept {   // host → joiner
   Proof proof{};  // the host's site name, sealed; zero when open
 };
 
-// Who is at the other end: the avatar to show and the body it must move like (DESIGN §9).
+// Who is at the other end (docs/protocol.md §4.4): the avatar to show and the body it must move
+// like.
 struct AvatarDescription {
   std::string model;  // an avatar asset name; empty: the project's default avatar
   BodyCalibration body;

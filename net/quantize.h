@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "gesture/math/pose.h"
+#include "core/math/pose.h"
 
 namespace deixis::net {
 

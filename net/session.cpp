@@ -7,7 +7,7 @@
 #include <bit>
 #include <cmath>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "net/passphrase.h"
 
 namespace deixis::net {

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <span>
 
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 #include "net/protocol.h"
 
 namespace deixis::net {

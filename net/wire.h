@@ -11,7 +11,7 @@
 #include <span>
 #include <string_view>
 
-#include "gesture/io/text_rules.h"
+#include "core/io/text_rules.h"
 
 namespace deixis::net {
 
@@ -149,7 +149,7 @@ class WireWriter {
   bool failed_ = false;
 };
 
-// Names and site labels on the wire: gesture/io/text_rules.h, shared with the file readers so
+// Names and site labels on the wire: core/io/text_rules.h, shared with the file readers so
 // that a file that loads never holds a name the wire refuses.
 using deixis::is_wire_text;
 

@@ -7,8 +7,8 @@
 // untouched (the fingertip is nowhere near them), so are free-form gestures (deictic progression
 // low) and moments where the user's own pose is shown (hand blend weight 1).
 
-#include "gesture/target_map.h"
-#include "gesture/tracking.h"
+#include "core/target_map.h"
+#include "core/tracking.h"
 
 namespace deixis::presence {
 

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::render {
 

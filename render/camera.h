@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "gesture/math/pose.h"
+#include "core/math/pose.h"
 
 namespace deixis::render {
 

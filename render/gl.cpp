@@ -1,6 +1,6 @@
 #include "render/gl.h"
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::render {
 

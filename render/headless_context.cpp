@@ -8,7 +8,7 @@
 #include <cstring>
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::render {
 namespace {

@@ -8,7 +8,7 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "render/gl.h"
 
 namespace deixis::render {

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::render {
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::render {
 

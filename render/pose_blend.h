@@ -1,13 +1,13 @@
 #pragma once
-// Display-rate interpolation between two 30 Hz ticks (DESIGN §3): the caller keeps the last two
-// skeleton poses and the time since the older one; this blends them. Works joint by joint on
-// whatever frame the poses are in: model poses (T_model_joint, what the renderer draws) as well as
-// local ones. Blending local poses keeps bone lengths exact; between two ticks 33 ms apart the
-// difference from blending model poses is far below a pixel.
+// Display-rate interpolation between two 30 Hz ticks (docs/conventions.md#rates-and-windows): the
+// caller keeps the last two skeleton poses and the time since the older one; this blends them.
+// Works joint by joint on whatever frame the poses are in: model poses (T_model_joint, what the
+// renderer draws) as well as local ones. Blending local poses keeps bone lengths exact; between two
+// ticks 33 ms apart the difference from blending model poses is far below a pixel.
 
 #include <span>
 
-#include "gesture/math/pose.h"
+#include "core/math/pose.h"
 
 namespace deixis::render {
 

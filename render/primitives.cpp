@@ -4,7 +4,7 @@
 #include <numbers>
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::render {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <span>
 
-#include "gesture/target_map.h"
+#include "core/target_map.h"
 #include "render/camera.h"
 #include "render/skinned_mesh.h"
 

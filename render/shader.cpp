@@ -3,7 +3,7 @@
 #include <utility>
 #include <vector>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::render {
 namespace {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::render {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "gesture/target_map.h"
+#include "core/target_map.h"
 #include "render/gpu_mesh.h"
 #include "render/label_text.h"
 #include "render/programs.h"

@@ -11,7 +11,7 @@
 #include <ctime>
 #include <vector>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 extern char** environ;
 

@@ -3,7 +3,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "render/gl.h"
 
 namespace deixis::render {

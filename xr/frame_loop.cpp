@@ -3,7 +3,7 @@
 #include <chrono>
 #include <thread>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "xr/xr_struct.h"
 
 namespace deixis::xr {

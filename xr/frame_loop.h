@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 #include "render/camera.h"
 #include "render/render_target.h"
 #include "xr/gl_session.h"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "xr/xr_struct.h"
 
 namespace deixis::xr {

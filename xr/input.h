@@ -1,6 +1,6 @@
 #pragma once
 // What the headset tells about its user, as the TrackingFrame the rest of Deixis reads
-// (gesture/tracking.h): the head from the VIEW space, the eye gaze (XR_EXT_eye_gaze_interaction
+// (core/tracking.h): the head from the VIEW space, the eye gaze (XR_EXT_eye_gaze_interaction
 // where offered), and per hand the wrist and index fingertip from XR_EXT_hand_tracking's joints
 // where offered, else from the controllers' grip (wrist) and aim (fingertip) poses. A part the
 // runtime does not report as valid, or reports with a non-finite or non-unit value, is left out
@@ -15,7 +15,7 @@
 #include <array>
 #include <optional>
 
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 #include "xr/gl_session.h"
 #include "xr/instance.h"
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "xr/xr_struct.h"
 
 namespace deixis::xr {

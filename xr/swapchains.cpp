@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::xr {
 

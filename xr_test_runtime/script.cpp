@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "gesture/io/json_guard.h"
+#include "core/io/json_guard.h"
 
 namespace deixis::xrt {
 

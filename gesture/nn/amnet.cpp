@@ -1,6 +1,6 @@
 #include "gesture/nn/amnet.h"
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "gesture/nn/expert_layer.h"
 #include "gesture/nn/gru.h"
 

@@ -1,9 +1,9 @@
 #pragma once
 // AMNet (AngleNet + MotionNet, Kang et al., ISMAR 2023), the paper's state-of-the-art baseline
-// (Table I), from the authors' checkpoint `ISMAR2023(Hard)629` (NOTES §8). It maps paired windows
-// of the user ("local") and the avatar ("remote"), 20 rows × 16 (12 angle features, target θ, φ,
-// r, scale), directly to the avatar's 21 end-effectors: head forward, up, position; hand forward,
-// up, position (root frame); fingertip (hand frame).
+// (Table I), from the authors' checkpoint `ISMAR2023(Hard)629` (docs/conventions.md#amnet). It maps
+// paired windows of the user ("local") and the avatar ("remote"), 20 rows × 16 (12 angle features,
+// target θ, φ, r, scale), directly to the avatar's 21 end-effectors: head forward, up, position;
+// hand forward, up, position (root frame); fingertip (hand frame).
 //
 //   ω_local, ω_remote = softmax(GRU2(target)) at every row (6 experts)
 //   z = GRU2(Enc(local angles; ω_local) + Enc(remote angles; ω_remote)), last row
@@ -15,7 +15,7 @@
 #include <memory>
 #include <span>
 
-#include "gesture/io/safetensors.h"
+#include "core/io/safetensors.h"
 
 namespace deixis::nn {
 

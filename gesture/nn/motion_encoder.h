@@ -1,19 +1,19 @@
 #pragma once
-// The encoder half of the FMD autoencoder (paper §V.A; NOTES §7.5; DESIGN §8): a 30-frame
-// segment of head and hand motion (18 values per frame: head 6D + position, hand 6D + position,
-// x[3..20]) → a 128-d latent code:
+// The encoder half of the FMD autoencoder (paper §V.A; docs/eval.md#what-each-number-is): a
+// 30-frame segment of head and hand motion (18 values per frame: head 6D + position, hand 6D +
+// position, x[3..20]) → a 128-d latent code:
 //   Conv1d(18 → 256, kernel 15) → ReLU → Conv1d(256 → 128, kernel 16); lengths 30 → 16 → 1.
 // Tensor names as the authors' ConvolutionalAutoEncoder (conv_encode1.*, conv_encode2.*); the
 // weights are trained by deixis-train on the training subject (the authors' file is missing from
-// their release, NOTES §1). Like the other networks: shared read-only weights, const run(), no
-// allocation.
+// their release, docs/conventions.md#authors-checkpoints). Like the other networks: shared
+// read-only weights, const run(), no allocation.
 
 #include <array>
 #include <filesystem>
 #include <memory>
 #include <span>
 
-#include "gesture/io/safetensors.h"
+#include "core/io/safetensors.h"
 
 namespace deixis::nn {
 

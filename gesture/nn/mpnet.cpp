@@ -2,7 +2,7 @@
 
 #include <variant>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "gesture/nn/mpnet_architectures.h"
 
 namespace deixis::nn {

@@ -5,14 +5,14 @@
 //
 // An Mpnet is a handle to read-only weights: copies share them, so every remote person can use the
 // same loaded network. run() is const, thread-safe, allocation-free and noexcept; the networks keep
-// no state between calls (the GRUs restart from zero on every window, NOTES §3.2), so all
-// per-person state is the input window the caller keeps.
+// no state between calls (the GRUs restart from zero on every window, docs/conventions.md#grus), so
+// all per-person state is the input window the caller keeps.
 
 #include <filesystem>
 #include <memory>
 #include <string_view>
 
-#include "gesture/io/safetensors.h"
+#include "core/io/safetensors.h"
 #include "gesture/nn/shapes.h"
 
 namespace deixis::nn {

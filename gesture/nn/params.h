@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "gesture/io/safetensors.h"
+#include "core/io/safetensors.h"
 
 namespace deixis::nn {
 

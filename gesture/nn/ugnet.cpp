@@ -4,7 +4,7 @@
 #include <string>
 #include <variant>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "gesture/nn/ugnet_architectures.h"
 
 namespace deixis::nn {

@@ -1,18 +1,19 @@
 #pragma once
 // UGNet, the Upper-body Gesture Network (paper §IV.B): a 30-row window of (end-effectors x,
 // avatar target feature, progression) → the avatar's end-effectors x at the next tick. Only the
-// newest row's x is read (NOTES §4.1). One class for the four architectures of paper Table IV,
-// recognised from the checkpoint's tensor names.
+// newest row's x is read (docs/conventions.md#end-effectors). One class for the four architectures
+// of paper Table IV, recognised from the checkpoint's tensor names.
 //
 // Like Mpnet, a Ugnet is a handle to shared read-only weights and run() is const, thread-safe,
 // allocation-free and noexcept. The diffusion variant samples: its 30 Gaussian draws are supplied
-// by the caller, so a run is exactly reproducible (NOTES §4.5); the other variants ignore them.
+// by the caller, so a run is exactly reproducible (docs/conventions.md#ugnet-diffusion); the other
+// variants ignore them.
 
 #include <filesystem>
 #include <memory>
 #include <string_view>
 
-#include "gesture/io/safetensors.h"
+#include "core/io/safetensors.h"
 #include "gesture/nn/shapes.h"
 
 namespace deixis::nn {

@@ -3,7 +3,7 @@
 // site B over ENet on 127.0.0.1. The xr site calibrates the user from the first tracked frame,
 // selects what they look and point at from the tracking and streams it; site B translates the
 // headset user into room B, where the objects stand elsewhere, and measures the avatar at the
-// person's completion states against copying the pose (app/deictic_observer.h). Also: a wrong
+// person's completion states against copying the pose (eval/deictic_observer.h). Also: a wrong
 // passphrase ends the xr session with the refusal, and bad flags exit 2 naming them.
 
 #include <gtest/gtest.h>
@@ -15,11 +15,11 @@
 #include <nlohmann/json.hpp>
 
 #include "app/deixis_child.h"
-#include "app/site_config.h"
 #include "avatar/avatar_loader.h"
 #include "capture/subject.h"
 #include "capture/virtual_user.h"
 #include "presence/remote_avatar.h"
+#include "site/site_config.h"
 #include "test_support.h"
 #include "tests/xr/runtime_script.h"
 

@@ -16,7 +16,7 @@
 
 #include "avatar/avatar_loader.h"
 #include "avatar/default_avatar.h"
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::avatar::testing {
 

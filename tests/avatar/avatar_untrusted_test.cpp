@@ -1,4 +1,4 @@
-// Hostile glTF files (issue 22): deep JSON nesting, GLB lengths that lie, URIs that leave the
+// Hostile glTF files: deep JSON nesting, GLB lengths that lie, URIs that leave the
 // file's folder, and a mesh instanced into a blow-up are each a clear deixis::Error naming the file
 // and what was wrong, checked before tinygltf parses or the bake allocates.
 
@@ -9,7 +9,7 @@
 #include "avatar/avatar_loader.h"
 #include "avatar/default_avatar.h"
 #include "avatar_test_support.h"
-#include "gesture/error.h"
+#include "core/error.h"
 #include "test_support.h"
 
 namespace deixis::avatar {

@@ -1,8 +1,8 @@
-// A third-party rig: BCN_Epileptic.X from Debian's assimp-testmodels (DESIGN §10), converted at
-// test time with `assimp export … -fglb2`. Its weights do not sum to 1 (the glTF validator
-// reports 12 such vertices), it has eyes and one finger chain, and B_Neck acts as its head. It
-// must load through the BCN name table, stand upright facing −Z, and keep its bone lengths when
-// posed.
+// A third-party rig: BCN_Epileptic.X from Debian's assimp-testmodels (docs/avatars.md#bone-names),
+// converted at test time with `assimp export … -fglb2`. Its weights do not sum to 1 (the glTF
+// validator reports 12 such vertices), it has eyes and one finger chain, and B_Neck acts as its
+// head. It must load through the BCN name table, stand upright facing −Z, and keep its bone lengths
+// when posed.
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include "avatar/avatar_loader.h"
 #include "avatar_test_support.h"
 #include "bcn_rig.h"
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 #include "test_support.h"
 
 namespace deixis::avatar {

@@ -12,7 +12,7 @@
 #include "avatar/avatar_loader.h"
 #include "avatar/default_avatar.h"
 #include "avatar_test_support.h"
-#include "gesture/error.h"
+#include "core/error.h"
 #include "test_support.h"
 
 namespace deixis::avatar {

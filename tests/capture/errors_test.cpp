@@ -7,8 +7,8 @@
 #include "capture/generate.h"
 #include "capture/script.h"
 #include "capture/tracker_noise.h"
-#include "gesture/error.h"
-#include "gesture/io/safetensors.h"
+#include "core/error.h"
+#include "core/io/safetensors.h"
 #include "test_support.h"
 
 namespace deixis::capture {

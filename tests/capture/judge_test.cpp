@@ -1,5 +1,5 @@
 // The authors' MPNet MoE, trained on real people, recognises the progressions of the capture's
-// test subjects (issue 4: aim MPE ≤ 0.10), and the preview writes a PNG.
+// test subjects (aim: MPE ≤ 0.10), and the preview writes a PNG.
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include "capture/judge.h"
 #include "capture/preview.h"
 #include "capture/raster.h"
-#include "gesture/error.h"
+#include "core/error.h"
 #include "gesture/features.h"
 #include "test_support.h"
 

@@ -7,7 +7,7 @@
 
 #include "capture/pchip.h"
 #include "capture/speed.h"
-#include "gesture/error.h"
+#include "core/error.h"
 #include "sequences.h"
 
 namespace deixis::capture {

@@ -11,7 +11,7 @@
 #include "capture/dataset.h"
 #include "capture/mirror.h"
 #include "capture/tracker_noise.h"
-#include "gesture/error.h"
+#include "core/error.h"
 #include "gesture/features.h"
 #include "sequences.h"
 #include "test_support.h"

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "capture/virtual_user.h"
-#include "gesture/error.h"
+#include "core/error.h"
 #include "gesture/features.h"
 #include "test_support.h"
 

@@ -1,4 +1,4 @@
-// deixis eval (issue 8): the quick run writes well-formed tables; DIP through the evaluation's
+// deixis eval: the quick run writes well-formed tables; DIP through the evaluation's
 // own chain reads a fingertip offset by a known angle as that HE and VE to 0.01°; identical
 // motion gives FMD 0; a known hold pattern gives the expected MPJPE; training-subject data is
 // refused.
@@ -11,12 +11,12 @@
 #include <random>
 
 #include "capture/generate.h"
+#include "core/error.h"
+#include "core/io/machine.h"
+#include "core/io/safetensors.h"
 #include "eval/evaluation.h"
 #include "eval/perturbation.h"
 #include "eval/runs.h"
-#include "gesture/error.h"
-#include "gesture/io/machine.h"
-#include "gesture/io/safetensors.h"
 #include "test_support.h"
 
 namespace deixis::eval {

@@ -1,4 +1,4 @@
-// Each metric against hand-computed cases (issue 8): a fingertip offset by a known angle gives
+// Each metric against hand-computed cases: a fingertip offset by a known angle gives
 // that HE and VE to 0.01°, identical motion gives FMD 0, a known hold pattern gives the expected
 // MPJPE and velocity error.
 
@@ -10,7 +10,7 @@
 #include <numbers>
 #include <random>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::eval {
 namespace {

@@ -1,10 +1,10 @@
 // Target maps: round trip, the demo rooms, and every kind of bad field named with its path.
 
-#include "gesture/target_map.h"
+#include "core/target_map.h"
 
 #include <gtest/gtest.h>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "test_support.h"
 
 namespace deixis {
@@ -76,7 +76,7 @@ TEST(TargetMap, BadFieldsAreNamedWithTheirPath) {
   EXPECT_THROW(read_target_map("/nonexistent/room.json"), Error);
 }
 
-// Issue 22: a target map is a file from anywhere; each hostile class is a clear error.
+// A target map is a file from anywhere; each hostile class is a clear error.
 TEST(TargetMap, HostileFilesAreRefusedNamingFileAndPlace) {
   const std::string good =
       R"({"format": "deixis-target-map", "version": 1, "site": "B", "objects": [

@@ -2,8 +2,8 @@
 // Hand-built tracking frames of a standing person for translator tests (the synthetic capture
 // makes realistic motion; these are simple, readable poses).
 
-#include "gesture/math/pose.h"
-#include "gesture/tracking.h"
+#include "core/math/pose.h"
+#include "core/tracking.h"
 
 namespace deixis::testing {
 

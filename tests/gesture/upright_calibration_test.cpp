@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis {
 namespace {

@@ -8,7 +8,7 @@
 
 #include <sstream>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "ik/two_bone_job.h"
 #include "limit_check.h"
 #include "rig_pose.h"

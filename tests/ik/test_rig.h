@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 #include "ik/humanoid.h"
 #include "ik/rotations.h"
 

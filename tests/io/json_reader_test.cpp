@@ -1,15 +1,15 @@
-// Untrusted JSON (issue 22): the reader every Deixis JSON format goes through bounds the nesting
+// Untrusted JSON: the reader every Deixis JSON format goes through bounds the nesting
 // depth before parsing, refuses duplicate keys naming the key and where it is, checks integers
 // whatever their sign (no wrap above INT64_MAX), and holds names to the wire's text rules.
 
-#include "gesture/io/json_reader.h"
+#include "core/io/json_reader.h"
 
 #include <gtest/gtest.h>
 
 #include <fstream>
 
-#include "gesture/io/json_guard.h"
-#include "gesture/io/text_rules.h"
+#include "core/io/json_guard.h"
+#include "core/io/text_rules.h"
 #include "net/protocol.h"
 #include "test_support.h"
 

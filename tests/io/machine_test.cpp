@@ -1,6 +1,6 @@
-// The machine description that timings carry (gesture/io/machine.h).
+// The machine description that timings carry (core/io/machine.h).
 
-#include "gesture/io/machine.h"
+#include "core/io/machine.h"
 
 #include <gtest/gtest.h>
 

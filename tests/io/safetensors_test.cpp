@@ -1,4 +1,4 @@
-#include "gesture/io/safetensors.h"
+#include "core/io/safetensors.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,7 +18,7 @@
 #include <string_view>
 #include <vector>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "test_support.h"
 
 namespace deixis {

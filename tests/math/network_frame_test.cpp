@@ -1,11 +1,11 @@
-#include "gesture/math/network_frame.h"
+#include "core/math/network_frame.h"
 
 #include <gtest/gtest.h>
 
 #include <numbers>
 #include <random>
 
-#include "gesture/math/rotation_6d.h"
+#include "core/math/rotation_6d.h"
 
 namespace deixis {
 namespace {
@@ -67,7 +67,7 @@ TEST(TargetFeature, HandComputedAngles) {
   // Below and in front: y = −0.3, z = 0.3 → φ = atan2(0.3, −0.3) = 3π/4.
   a = target_angles(Vec3(0, -0.3f, 0.3f));
   EXPECT_NEAR(a.phi, 3 * kPi / 4, 1e-6f);
-  // φ ignores x (NOTES §2.4): moving sideways does not change it.
+  // φ ignores x (docs/conventions.md#target-feature): moving sideways does not change it.
   EXPECT_NEAR(target_angles(Vec3(0.7f, -0.3f, 0.3f)).phi, 3 * kPi / 4, 1e-6f);
 }
 

@@ -1,4 +1,4 @@
-#include "gesture/math/pose.h"
+#include "core/math/pose.h"
 
 #include <gtest/gtest.h>
 

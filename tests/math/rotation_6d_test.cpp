@@ -1,4 +1,4 @@
-#include "gesture/math/rotation_6d.h"
+#include "core/math/rotation_6d.h"
 
 #include <gtest/gtest.h>
 
@@ -41,7 +41,8 @@ TEST(Rotation6D, GramSchmidtKeepsForwardExact) {
 }
 
 TEST(Rotation6D, AuthorsRecipeIsNotOrthogonalised) {
-  // The same tilted input through the authors' recipe keeps the tilted up column (NOTES §2.3).
+  // The same tilted input through the authors' recipe keeps the tilted up column
+  // (docs/conventions.md#6d-rotations).
   const Vec3 up(0, std::cos(0.5236f), std::sin(0.5236f));
   const Mat3 R = decode_6d_unorthogonalised(Vec3(0, 0, 2), up);
   EXPECT_TRUE(R.col(1).isApprox(up, 1e-6f));

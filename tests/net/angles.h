@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "gesture/math/pose.h"
+#include "core/math/pose.h"
 
 namespace deixis::net {
 

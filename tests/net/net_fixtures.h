@@ -6,8 +6,8 @@
 #include <cmath>
 #include <string>
 
-#include "gesture/target_map.h"
-#include "gesture/tracking.h"
+#include "core/target_map.h"
+#include "core/tracking.h"
 #include "net/messages.h"
 #include "net/session.h"
 

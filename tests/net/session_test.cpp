@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "angles.h"
-#include "gesture/error.h"
+#include "core/error.h"
 #include "net/messages.h"
 #include "net/tracking_codec.h"
 #include "session_pair.h"

@@ -7,7 +7,7 @@
 
 #include <random>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "test_support.h"
 
 namespace deixis {

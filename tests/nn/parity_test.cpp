@@ -1,6 +1,6 @@
 // Parity of our networks with the authors' PyTorch code: every single-network fixture in
-// ../shared/reference/fixtures (right and left) must match within NOTES §10.1's tolerances, and a
-// perturbed checkpoint must not.
+// ../shared/reference/fixtures (right and left) must match within the tolerances of
+// docs/conventions.md#parity, and a perturbed checkpoint must not.
 
 #include "gesture/parity.h"
 
@@ -11,8 +11,8 @@
 #include <random>
 #include <stdexcept>
 
-#include "gesture/error.h"
-#include "gesture/io/safetensors.h"
+#include "core/error.h"
+#include "core/io/safetensors.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
 #include "test_support.h"

@@ -1,5 +1,5 @@
 #pragma once
-// Issue 6's end-to-end check as a reusable procedure: a synthetic *test* subject (never the
+// The end-to-end check as a reusable procedure: a synthetic *test* subject (never the
 // training subject) points at or touches object X in room A; in room B, where X stands elsewhere
 // relative to the avatar, the remote avatar (translator + touch contact + whole-avatar IK) must
 // finish the gesture at B's X, while copying the user's pose (the paper's baseline) misses.
@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "capture/script.h"
-#include "gesture/target_map.h"
-#include "gesture/tracking.h"
+#include "core/target_map.h"
+#include "core/tracking.h"
 #include "ik/avatar_solver.h"
 
 namespace deixis::presence {
@@ -49,7 +49,7 @@ std::vector<TrackingFrame> with_selected_targets(const capture::Sequence& s,
                                                  std::vector<TrackingFrame> frames);
 
 void report(const char* what, const DeicticOutcome& o);
-// The goals of issue 6: pointing HE, VE ≤ 5°, touch ≤ 3 cm, and the copy far worse.
+// The goals: pointing HE, VE ≤ 5°, touch ≤ 3 cm, and the copy far worse.
 void expect_pointing(const DeicticOutcome& o);
 void expect_touching(const DeicticOutcome& o);
 

@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gesture/error.h"
-#include "gesture/io/safetensors.h"
+#include "core/error.h"
+#include "core/io/safetensors.h"
 
 namespace deixis::reference {
 
 namespace {
 
-// Sizes the paper fixes (NOTES §3.1, §4.1, §8).
+// Sizes the paper fixes (docs/conventions.md#mpnet-features, #end-effectors, #amnet).
 constexpr std::size_t kWindowRows = 30;
 constexpr std::size_t kMpnetColumns = 11;
 constexpr std::size_t kMpnetTargetColumn = 6;  // cols 6-10: (θH, φH, θR, φR, rR)
@@ -220,7 +220,8 @@ Vector linear(const Vector& x, const Tensor& weight, const Tensor& bias) {
 }
 
 Rows gru_layer(const Rows& inputs, const GruLayerWeights& weights) {
-  // torch.nn.GRU (NOTES §3.2), gates stacked r | z | n; b_hn stays inside the reset product:
+  // torch.nn.GRU (docs/conventions.md#grus), gates stacked r | z | n; b_hn stays inside the reset
+  // product:
   //   r = σ(W_ir x + b_ir + W_hr h + b_hr)     z = σ(W_iz x + b_iz + W_hz h + b_hz)
   //   n = tanh(W_in x + b_in + r ⊙ (W_hn h + b_hn))     h' = (1 − z) ⊙ n + z ⊙ h
   const std::size_t hidden = dim(weights.weight_hh, 1);
@@ -478,7 +479,7 @@ std::string_view architecture_name(Architecture architecture) {
 }
 
 MpnetResult mpnet_gru_moe(const Weights& weights, const Rows& window) {
-  // model.py MPNet_MoE (NOTES §3.2).
+  // model.py MPNet_MoE (docs/conventions.md#mpnet, #mixture-of-experts).
   expect_window(window, kWindowRows, kMpnetColumns, "MPNet window");
   MpnetResult result;
   // Gating network: 2-layer GRU(9) over the target feature only; softmax of the last row's output
@@ -499,7 +500,8 @@ MpnetResult mpnet_gru_moe(const Weights& weights, const Rows& window) {
 }
 
 MpnetResult mpnet_mlp(const Weights& weights, const Rows& window) {
-  // model.py MPNet_MLP (NOTES §3.3): the window flattened row-major, index row·11 + col.
+  // model.py MPNet_MLP (docs/conventions.md#mpnet): the window flattened row-major, index
+  // row·11 + col.
   expect_window(window, kWindowRows, kMpnetColumns, "MPNet window");
   const Vector x = concat(window);
   Vector h = elu(linear(x, weights, "linear1", kWindowRows * kMpnetColumns, 24));
@@ -511,7 +513,8 @@ MpnetResult mpnet_mlp(const Weights& weights, const Rows& window) {
 }
 
 MpnetResult mpnet_transformer(const Weights& weights, const Rows& window) {
-  // model.py MPNet_Transformer (NOTES §3.3): one token per row, no positional encoding.
+  // model.py MPNet_Transformer (docs/conventions.md#mpnet): one token per row, no positional
+  // encoding.
   expect_window(window, kWindowRows, kMpnetColumns, "MPNet window");
   Rows tokens;
   for (const Vector& row : window) {
@@ -529,8 +532,9 @@ MpnetResult mpnet_transformer(const Weights& weights, const Rows& window) {
 
 namespace {
 
-// The 264-vector the UGNet MoE experts, MLP and diffusion condition read (NOTES §4.2): the newest
-// row's pose (cols 0-23) ++ cols 24-31 of every row, oldest first (index 24 + row·8 + k).
+// The 264-vector the UGNet MoE experts, MLP and diffusion condition read
+// (docs/conventions.md#ugnet): the newest row's pose (cols 0-23) ++ cols 24-31 of every row, oldest
+// first (index 24 + row·8 + k).
 Vector condition_vector(const Rows& window) {
   Vector c(window.back().begin(), window.back().begin() + as_dim(kPoseSize));
   for (const Vector& row : window) {
@@ -544,7 +548,7 @@ constexpr std::size_t kConditionSize = kPoseSize + kConditionColumns * kWindowRo
 }  // namespace
 
 UgnetResult ugnet_moe(const Weights& weights, const Rows& window) {
-  // model.py UGNet_MoE (NOTES §4.2).
+  // model.py UGNet_MoE (docs/conventions.md#ugnet).
   expect_window(window, kWindowRows, kUgnetColumns, "UGNet window");
   UgnetResult result;
   const Rows conditioning = columns(window, kPoseSize, kConditionColumns);
@@ -563,7 +567,7 @@ UgnetResult ugnet_moe(const Weights& weights, const Rows& window) {
 }
 
 UgnetResult ugnet_mlp(const Weights& weights, const Rows& window) {
-  // model.py UGNet_MLP (NOTES §4.3): 264 → 1056 → 264 → 24, ELU between.
+  // model.py UGNet_MLP (docs/conventions.md#ugnet): 264 → 1056 → 264 → 24, ELU between.
   expect_window(window, kWindowRows, kUgnetColumns, "UGNet window");
   const Vector c = condition_vector(window);
   Vector h = elu(linear(c, weights, "linear1", kConditionSize, 4 * kConditionSize));
@@ -574,8 +578,8 @@ UgnetResult ugnet_mlp(const Weights& weights, const Rows& window) {
 }
 
 UgnetResult ugnet_transformer(const Weights& weights, const Rows& window) {
-  // model.py UGNet_Transformer (NOTES §4.4): 30 feature tokens, then the newest pose as the 31st
-  // token; no positional encoding; the output is read from the pose token.
+  // model.py UGNet_Transformer (docs/conventions.md#ugnet): 30 feature tokens, then the newest pose
+  // as the 31st token; no positional encoding; the output is read from the pose token.
   expect_window(window, kWindowRows, kUgnetColumns, "UGNet window");
   constexpr std::size_t kWidth = 160;
   Rows tokens;
@@ -595,7 +599,8 @@ UgnetResult ugnet_transformer(const Weights& weights, const Rows& window) {
 }
 
 UgnetResult ugnet_diffusion(const Weights& weights, const Rows& window, const Rows& noise) {
-  // model.py UGNet_Diffusion.sample_ddpm and NoiseDecoder.forward (NOTES §4.5).
+  // model.py UGNet_Diffusion.sample_ddpm and NoiseDecoder.forward
+  // (docs/conventions.md#ugnet-diffusion).
   expect_window(window, kWindowRows, kUgnetColumns, "UGNet window");
   expect_window(noise, kDiffusionSteps, kPoseSize, "diffusion noise");
   constexpr std::size_t kHidden = 128;
@@ -668,7 +673,7 @@ Rows amnet_gate(const Weights& weights, const Rows& window) {
 }  // namespace
 
 Vector amnet(const Weights& weights, const Rows& local, const Rows& remote) {
-  // ISMAR2023/model.py ISMAR2023.forward (NOTES §8).
+  // ISMAR2023/model.py ISMAR2023.forward (docs/conventions.md#amnet).
   expect_window(local, kAmnetRows, kAmnetColumns, "AMNet local window");
   expect_window(remote, kAmnetRows, kAmnetColumns, "AMNet remote window");
   // The same gating network, run separately on each window.

@@ -1,7 +1,8 @@
 // Three checks per single-network fixture in ../shared/reference/fixtures (right and left; found by
 // listing the directory, so new fixtures are picked up):
 //   a. the double-precision reference (reference_networks.h) against the authors' float64 PyTorch
-//      output, to rounding, and against their float32 outputs and intermediates within NOTES §10.1;
+//      output, to rounding, and against their float32 outputs and intermediates within the
+//      tolerances of docs/conventions.md#parity;
 //   b. the fast float32 path (gesture/nn) against the reference on the fixture's windows;
 //   c. the same on random windows, in and out of the training distribution. The fixtures hold 64
 //      plausible windows per network; this is what guards the fast path everywhere else.
@@ -22,7 +23,7 @@
 #include <variant>
 #include <vector>
 
-#include "gesture/io/safetensors.h"
+#include "core/io/safetensors.h"
 #include "gesture/nn/amnet.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
@@ -56,8 +57,8 @@ struct Tolerance {
 // change of formula fails.
 constexpr Tolerance kReferenceVsFloat64{1e-13};
 
-// A float32 implementation against double: NOTES §10.1 (the authors' own float32 run is that far
-// from their float64 one).
+// A float32 implementation against double: the tolerances of docs/conventions.md#parity (the
+// authors' own float32 run is that far from their float64 one).
 Tolerance float32_tolerance(Architecture architecture) {
   switch (architecture) {
     case Architecture::kMpnetGruMoe:
@@ -430,7 +431,7 @@ class RandomWindows {
     }
   }
 
-  // The target feature (θH, φH, θR, φR, rR), NOTES §2.4 ranges.
+  // The target feature (θH, φH, θR, φR, rR), docs/conventions.md#target-feature ranges.
   void target_feature(std::vector<float>& row) {
     row.push_back(uniform(-1.5, 1.5));
     row.push_back(uniform(0.5, 3.0));
@@ -442,13 +443,13 @@ class RandomWindows {
   // One plausible row of each network's input.
   std::vector<float> row(Architecture architecture) {
     std::vector<float> row;
-    if (is_mpnet(architecture)) {  // NOTES §3.1
+    if (is_mpnet(architecture)) {  // docs/conventions.md#mpnet-features
       for (int i = 0; i < 5; ++i) {
         row.push_back(uniform(0.0, std::numbers::pi));  // unsigned angles
       }
       row.push_back(uniform(0.0, 1.0) < 0.5f ? 0.0f : 1.0f);  // d
       target_feature(row);
-    } else if (architecture == Architecture::kAmnet) {  // NOTES §8
+    } else if (architecture == Architecture::kAmnet) {  // docs/conventions.md#amnet
       for (int i = 0; i < 6; ++i) {
         row.push_back(uniform(-std::numbers::pi, std::numbers::pi));  // signed angles
       }
@@ -459,7 +460,7 @@ class RandomWindows {
       row.push_back(uniform(0.5, 3.0));   // φ
       row.push_back(uniform(0.0, 1.0));   // r
       row.push_back(uniform(0.9, 1.1));   // scale
-    } else {                              // UGNet, NOTES §4.1
+    } else {                              // UGNet, docs/conventions.md#end-effectors
       unit_vector(row);                   // gaze
       unit_vector(row);                   // head forward
       unit_vector(row);                   // head up

@@ -8,7 +8,7 @@
 #include <memory>
 #include <optional>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "render/headless_context.h"
 #include "render/renderer.h"
 #include "render_fixtures.h"

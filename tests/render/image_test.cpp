@@ -6,7 +6,7 @@
 #include <fstream>
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "render/image.h"
 #include "test_support.h"
 

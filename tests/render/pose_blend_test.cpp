@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "render/pose_blend.h"
 
 namespace deixis::render {

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "render/primitives.h"
 #include "render_fixtures.h"
 

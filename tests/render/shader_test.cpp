@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "render/headless_context.h"
 #include "render/shader.h"
 #include "render/shader_sources.h"

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "render/video_writer.h"
 #include "test_support.h"
 

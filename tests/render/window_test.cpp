@@ -5,7 +5,7 @@
 
 #include <cstdlib>
 
-#include "gesture/error.h"
+#include "core/error.h"
 #include "render/renderer.h"
 #include "render/window_context.h"
 #include "render_fixtures.h"

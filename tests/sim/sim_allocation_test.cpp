@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "allocation_counter.h"
-#include "app/sim_history.h"
-#include "app/sim_user.h"
 #include "capture/subject.h"
+#include "sim/sim_history.h"
+#include "sim/sim_user.h"
 
 namespace deixis::app {
 namespace {

@@ -1,11 +1,11 @@
-// Issue 22: a scripted-input file (deixis sim --input) is untrusted like any file: deep nesting,
+// A scripted-input file (deixis sim --input) is untrusted like any file: deep nesting,
 // duplicate keys, integers past INT64_MAX and scripts that expand into too many events are each a
 // clear error naming the file and the place.
 
 #include <gtest/gtest.h>
 
-#include "app/sim_input.h"
-#include "gesture/error.h"
+#include "core/error.h"
+#include "sim/sim_input.h"
 
 namespace deixis::app {
 namespace {

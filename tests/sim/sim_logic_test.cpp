@@ -8,12 +8,12 @@
 #include <cmath>
 #include <optional>
 
-#include "app/sim_history.h"
-#include "app/sim_input.h"
-#include "app/sim_pick.h"
-#include "app/sim_user.h"
 #include "capture/subject.h"
-#include "gesture/error.h"
+#include "core/error.h"
+#include "sim/sim_history.h"
+#include "sim/sim_input.h"
+#include "sim/sim_pick.h"
+#include "sim/sim_user.h"
 
 namespace deixis::app {
 namespace {

@@ -8,9 +8,9 @@
 #include <cstdio>
 #include <thread>
 
-#include "app/endpoint.h"
-#include "app/sim_network_form.h"
-#include "app/sim_time.h"
+#include "sim/sim_network_form.h"
+#include "sim/sim_time.h"
+#include "site/endpoint.h"
 
 namespace deixis::app {
 namespace {

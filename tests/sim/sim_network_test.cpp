@@ -16,11 +16,11 @@
 #include <nlohmann/json.hpp>
 
 #include "app/deixis_child.h"
-#include "app/sim_views.h"
-#include "app/site_config.h"
 #include "render/image.h"
 #include "render/render_fixtures.h"
 #include "render/xvfb_server.h"
+#include "sim/sim_views.h"
+#include "site/site_config.h"
 #include "test_support.h"
 
 namespace deixis::app {

@@ -13,9 +13,9 @@
 
 #include <string>
 
-#include "app/sim_panel.h"
 #include "render/headless_context.h"
 #include "render/image.h"
+#include "sim/sim_panel.h"
 
 namespace deixis::app {
 namespace {

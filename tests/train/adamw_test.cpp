@@ -9,10 +9,10 @@
 #include <random>
 #include <vector>
 
-#include "gesture/error.h"
-#include "gesture/train/adamw.h"
-#include "gesture/train/network_kind.h"
-#include "gesture/train/schedule.h"
+#include "core/error.h"
+#include "train/adamw.h"
+#include "train/network_kind.h"
+#include "train/schedule.h"
 
 namespace deixis::train {
 namespace {

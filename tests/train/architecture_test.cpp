@@ -1,7 +1,8 @@
 // The libtorch training models are the authors' architectures, and what they export means the
 // same thing to the C++ runtime:
 //   1. the authors' own checkpoints, loaded into deixis-train's libtorch models, reproduce the
-//      authors' PyTorch outputs in ../shared/reference/fixtures (NOTES §10.1 tolerances);
+//      authors' PyTorch outputs in ../shared/reference/fixtures
+//      (tolerances: docs/conventions.md#parity);
 //   2. weights exported from libtorch load in nn::Mpnet / nn::Ugnet / nn::MotionEncoder
 //      unchanged and give the same outputs within 1e-5 on windows the weights never saw.
 
@@ -11,12 +12,12 @@
 #include <cmath>
 #include <random>
 
-#include "gesture/io/safetensors.h"
+#include "core/io/safetensors.h"
 #include "gesture/nn/motion_encoder.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
-#include "gesture/train/forward.h"
 #include "test_support.h"
+#include "train/forward.h"
 
 namespace deixis::train {
 namespace {
@@ -35,7 +36,7 @@ float max_abs_difference(std::span<const float> a, std::span<const float> b) {
 struct FixtureCase {
   const char* fixture;  // stem under fixtures/, without the hand
   Network network;
-  float tolerance;  // NOTES §10.1
+  float tolerance;  // docs/conventions.md#parity
 };
 
 class AuthorsCheckpoint : public ::testing::TestWithParam<std::tuple<FixtureCase, const char*>> {};
@@ -115,8 +116,8 @@ TEST(AuthorsCheckpoint, APerturbedCheckpointDoesNotMatch) {
             1e-3f);
 }
 
-// Windows the exported weights never saw: the public fixtures' inputs (NOTES §10.2, a mix of
-// plausible and off-manifold windows).
+// Windows the exported weights never saw: the public fixtures' inputs (docs/conventions.md#parity:
+// a mix of plausible and off-manifold windows).
 std::vector<float> held_out_windows(const char* fixture, std::int64_t& count) {
   const SafetensorsFile f = SafetensorsFile::read(testing::reference_dir() / "fixtures" / fixture);
   const std::vector<std::int64_t>& shape = f.shape_of("input");

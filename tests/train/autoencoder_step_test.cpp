@@ -1,10 +1,10 @@
-// The FMD autoencoder's direct training step (gesture/train/autoencoder_step.h) is libtorch's
-// autograd through the training model (gesture/train/models.cpp, whose convolutions
+// The FMD autoencoder's direct training step (train/autoencoder_step.h) is libtorch's
+// autograd through the training model (train/models.cpp, whose convolutions
 // conv_as_matmul_test checks against libtorch's own): the same loss, the same reconstruction and
 // the same gradient for every parameter, for a full and a partial batch, with both ReLUs cutting
 // some units and passing others.
 
-#include "gesture/train/autoencoder_step.h"
+#include "train/autoencoder_step.h"
 
 #include <gtest/gtest.h>
 #include <torch/torch.h>
@@ -12,7 +12,7 @@
 #include <map>
 #include <string>
 
-#include "gesture/train/models.h"
+#include "train/models.h"
 
 namespace deixis::train {
 namespace {

@@ -1,8 +1,8 @@
-// The autoencoder's convolutions as matrix products (gesture/train/conv_as_matmul.h) are libtorch's
+// The autoencoder's convolutions as matrix products (train/conv_as_matmul.h) are libtorch's
 // conv1d and conv_transpose1d: same outputs and the same gradients for the input, the weight and
 // the bias, at the FMD autoencoder's four layer shapes and at shapes with other sizes.
 
-#include "gesture/train/conv_as_matmul.h"
+#include "train/conv_as_matmul.h"
 
 #include <gtest/gtest.h>
 #include <torch/torch.h>

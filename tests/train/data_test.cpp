@@ -10,15 +10,15 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "gesture/error.h"
-#include "gesture/train/checkpoint.h"
-#include "gesture/train/clips.h"
-#include "gesture/train/dataset.h"
-#include "gesture/train/network_kind.h"
-#include "gesture/train/progress.h"
-#include "gesture/train/schedule.h"
+#include "core/error.h"
 #include "synthetic_sequences.h"
 #include "test_support.h"
+#include "train/checkpoint.h"
+#include "train/clips.h"
+#include "train/dataset.h"
+#include "train/network_kind.h"
+#include "train/progress.h"
+#include "train/schedule.h"
 
 namespace deixis::train {
 namespace {

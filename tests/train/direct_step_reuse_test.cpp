@@ -1,4 +1,4 @@
-// The direct training steps (gesture/train/moe_step.h, autoencoder_step.h) keep their buffers
+// The direct training steps (train/moe_step.h, autoencoder_step.h) keep their buffers
 // from batch to batch, and the trainer feeds them full batches, then validation's smaller last
 // batch, then full batches again. One step object taken through batch sizes 32, 11, 20 and 32
 // must give, bit for bit, what a fresh object gives for each batch: nothing may be read that
@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "flat_buffers.h"
-#include "gesture/train/autoencoder_step.h"
-#include "gesture/train/moe_step.h"
+#include "train/autoencoder_step.h"
+#include "train/moe_step.h"
 
 namespace deixis::train {
 namespace {

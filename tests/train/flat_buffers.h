@@ -6,8 +6,8 @@
 #include <random>
 #include <vector>
 
-#include "gesture/train/autoencoder_step.h"
-#include "gesture/train/moe_step.h"
+#include "train/autoencoder_step.h"
+#include "train/moe_step.h"
 
 namespace deixis::train::test_data {
 

@@ -1,8 +1,8 @@
-// The fused denoiser (gesture/train/fused_denoiser.h) is the libtorch composition of the UGNet
+// The fused denoiser (train/fused_denoiser.h) is the libtorch composition of the UGNet
 // Diffusion's NoiseDecoder: the same output and the same gradients for its three inputs and every
 // parameter, at the UGNet's sizes and at odd ones, with and without gradients for the data.
 
-#include "gesture/train/fused_denoiser.h"
+#include "train/fused_denoiser.h"
 
 #include <gtest/gtest.h>
 #include <torch/torch.h>

@@ -1,8 +1,8 @@
-// The fused expert layers (gesture/train/fused_experts.h) are the libtorch composition they
+// The fused expert layers (train/fused_experts.h) are the libtorch composition they
 // replace: same outputs and the same gradients for the input, the gating weights and every
 // weight and bias, at MPNet's and UGNet's sizes, with inputs on both sides of the ELU's kink.
 
-#include "gesture/train/fused_experts.h"
+#include "train/fused_experts.h"
 
 #include <gtest/gtest.h>
 #include <torch/torch.h>

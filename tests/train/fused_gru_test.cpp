@@ -1,7 +1,7 @@
-// The fused GRU (gesture/train/fused_gru.h) is torch.nn.GRU: same outputs and the same gradients
+// The fused GRU (train/fused_gru.h) is torch.nn.GRU: same outputs and the same gradients
 // for the input and every parameter, on random data, one and two layers.
 
-#include "gesture/train/fused_gru.h"
+#include "train/fused_gru.h"
 
 #include <gtest/gtest.h>
 #include <torch/nn/modules/rnn.h>

@@ -1,11 +1,11 @@
-// The fused encoder layers (gesture/train/fused_transformer.h) are libtorch's TransformerEncoder:
+// The fused encoder layers (train/fused_transformer.h) are libtorch's TransformerEncoder:
 // same outputs and the same gradients for the tokens and every parameter, without dropout (p = 0
 // in training mode, and eval mode), at the MPNet Transformer's sizes and at other ones. With
 // dropout they are the libtorch composition of the layer with the same masks, the masks drop
 // their rate, the training generator alone decides them, and over many draws the outputs are
 // distributed as libtorch's encoder's with its own dropout.
 
-#include "gesture/train/fused_transformer.h"
+#include "train/fused_transformer.h"
 
 #include <ATen/CPUGeneratorImpl.h>
 #include <gtest/gtest.h>
@@ -15,7 +15,7 @@
 #include <map>
 
 #include "gesture/nn/shapes.h"
-#include "gesture/train/models.h"
+#include "train/models.h"
 
 namespace deixis::train {
 namespace {

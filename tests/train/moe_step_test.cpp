@@ -1,9 +1,9 @@
-// The MoE networks' direct training step (gesture/train/moe_step.h) is libtorch's autograd
-// through the training models (gesture/train/models.cpp): the same loss, the same prediction and
+// The MoE networks' direct training step (train/moe_step.h) is libtorch's autograd
+// through the training models (train/models.cpp): the same loss, the same prediction and
 // the same gradient for every parameter, at MPNet's and UGNet's sizes, for full and partial
 // batches, with MPNet's clamp cutting some outputs and passing others.
 
-#include "gesture/train/moe_step.h"
+#include "train/moe_step.h"
 
 #include <gtest/gtest.h>
 #include <torch/torch.h>
@@ -11,7 +11,7 @@
 #include <map>
 #include <string>
 
-#include "gesture/train/models.h"
+#include "train/models.h"
 
 namespace deixis::train {
 namespace {

@@ -1,11 +1,11 @@
-// deixis-train --threads N for the direct steps (gesture/train/parallel_steps.h): the MoE
+// deixis-train --threads N for the direct steps (train/parallel_steps.h): the MoE
 // networks' experts shared out among a team, and the autoencoder's batch cut into slices, give
 // the loss, the gradients and the predictions of the whole step on one thread, to float
 // rounding — for unequal shares, partial batches, validation (no backward pass) and a slice left
 // empty after a full batch — and the same bits on every run. Torch-free, so it also runs under
 // ASan and UBSan.
 
-#include "gesture/train/parallel_steps.h"
+#include "train/parallel_steps.h"
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@
 #include <cmath>
 #include <random>
 
+#include "core/error.h"
 #include "flat_buffers.h"
-#include "gesture/error.h"
 
 namespace deixis::train {
 namespace {

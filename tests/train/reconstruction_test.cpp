@@ -1,9 +1,9 @@
-// The FMD autoencoder's reconstruction errors (gesture/train/reconstruction.h) on hand-computed
+// The FMD autoencoder's reconstruction errors (train/reconstruction.h) on hand-computed
 // cases: identical motion is 0 cm and 0°; a head moved by 1 cm is 0.5 cm averaged over head and
 // hand; a hand turned by 30° about any axis is 15°; 6D vectors that are not unit or not
 // orthogonal are orthonormalised first, so they measure the rotation they stand for.
 
-#include "gesture/train/reconstruction.h"
+#include "train/reconstruction.h"
 
 #include <gtest/gtest.h>
 #include <torch/torch.h>

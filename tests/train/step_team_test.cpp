@@ -1,9 +1,9 @@
-// StepTeam (gesture/train/step_team.h), the threads behind deixis-train --threads: every member
+// StepTeam (train/step_team.h), the threads behind deixis-train --threads: every member
 // runs each task once, on distinct threads, member 0 on the caller's; run() returns only when all
 // are done (their writes are visible); a member's exception reaches the caller after the others
 // finished, and the team keeps working afterwards.
 
-#include "gesture/train/step_team.h"
+#include "train/step_team.h"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "gesture/error.h"
+#include "core/error.h"
 
 namespace deixis::train {
 namespace {

@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "gesture/train/clips.h"
+#include "train/clips.h"
 
 namespace deixis::train::test_data {
 

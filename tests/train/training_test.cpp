@@ -18,15 +18,15 @@
 #include <sstream>
 #include <thread>
 
-#include "gesture/error.h"
-#include "gesture/io/machine.h"
+#include "core/error.h"
+#include "core/io/machine.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
-#include "gesture/train/checkpoint.h"
-#include "gesture/train/dataset.h"
-#include "gesture/train/trainer.h"
 #include "synthetic_sequences.h"
 #include "test_support.h"
+#include "train/checkpoint.h"
+#include "train/dataset.h"
+#include "train/trainer.h"
 
 extern char** environ;
 

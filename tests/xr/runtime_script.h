@@ -8,7 +8,7 @@
 #include <span>
 #include <string>
 
-#include "gesture/tracking.h"
+#include "core/tracking.h"
 #include "xr/input.h"
 
 namespace deixis::xr {

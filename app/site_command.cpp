@@ -1,0 +1,91 @@
+// `deixis host` / `deixis join`: one headless site whose user is the site's scripted person
+// (docs/demo.md). This file performs the script (the capture's virtual user: a tool the site
+// runtime never links) and hands the performance to the scripted site (site/scripted_site.h),
+// which runs the 30 Hz loop through the one site runtime.
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <cstdio>
+#include <optional>
+#include <string>
+
+#include "app/commands.h"
+#include "capture/subject.h"
+#include "capture/virtual_user.h"
+#include "core/error.h"
+#include "presence/remote_avatar.h"
+#include "site/scripted_site.h"
+
+namespace deixis::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The site's virtual user performs its script in this room, with the remote person's avatar
+// (target 0) where this room shows it; repeated to cover `seconds` (0: once). The site has one
+// (run_site checks).
+ScriptedUser perform_virtual_user(const SiteRunOptions& o, const SiteAssets& a) {
+  const capture::VirtualUserScene scene{a.site.user.T_world_floor(), a.site.target_map.objects,
+                                        a.T_world_remote_origin.translation};
+  capture::ScriptPerformance performance;
+  try {
+    const VirtualUser& user = *a.site.virtual_user;
+    performance = capture::perform_script(capture::find_subject(user.subject), user.script, scene,
+                                          user.seed, o.seconds);
+  } catch (const Error& e) {
+    throw Error(o.site.string() + ": " + e.what());
+  }
+  ScriptedUser scripted;
+  scripted.body = performance.sequence.calibration;
+  scripted.frames = std::move(performance.sequence.frames);
+  scripted.deictic.reserve(performance.sequence.labels.size());
+  for (const capture::Labels& labels : performance.sequence.labels) {
+    scripted.deictic.push_back(labels[1]);
+  }
+  scripted.steps = std::move(performance.steps);
+  return scripted;
+}
+
+void use_site_logger(const SiteRunOptions& o, const std::string& site) {
+  auto logger = spdlog::stderr_color_mt("deixis");
+  spdlog::set_default_logger(logger);
+  spdlog::set_pattern(std::string("[%H:%M:%S.%e] [") + (o.host ? "host " : "join ") + site +
+                      "] %v");
+}
+
+}  // namespace
+
+int run_site(const SiteRunOptions& options) {
+  std::optional<SiteAssets> assets;
+  ScriptedUser user;
+  try {
+    SiteConfig site = read_site_config(options.site);
+    if (!site.virtual_user) {
+      throw Error(options.site.string() +
+                  ": virtual_user: missing (host and join need a scripted user; a headset front "
+                  "end is not part of this build)");
+    }
+    assets.emplace(load_site_assets(std::move(site), options.weights_dir));
+    user = perform_virtual_user(options, *assets);
+    use_site_logger(options, assets->site.site);
+    std::error_code ec;
+    fs::create_directories(options.out_dir, ec);
+    if (ec || !fs::is_directory(options.out_dir)) {
+      throw Error(options.out_dir.string() + ": cannot create the output directory");
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "deixis %s: %s\n", options.host ? "host" : "join", e.what());
+    return 2;
+  }
+  try {
+    run_scripted_site(options, *assets, user);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "deixis %s: %s\n", options.host ? "host" : "join", e.what());
+    return 1;
+  }
+}
+
+}  // namespace deixis::app

@@ -1,0 +1,51 @@
+#pragma once
+// One step of a scripted person's performance (a site's virtual user, docs/site-config.md): what
+// they do, at which target, and how long they stay after arriving; and when a performed step
+// reached its completion state. Plain data, so the site configuration (site/) parses it, the
+// capture (capture/virtual_user.h) performs it and a site reports on it, none depending on the
+// others' code.
+
+#include <string_view>
+
+#include <cstddef>
+
+#include "core/tracking.h"
+
+namespace deixis {
+
+struct ScriptStep {
+  enum class Action { kLookAt, kPoint, kTouch, kExplain, kRest };
+  Action action = Action::kRest;
+  TargetId target = kNoTarget;  // kLookAt, kPoint, kTouch: an object id, or 0 for the partner
+  float seconds = 1.0f;         // how long to stay (hold, explain, rest) after arriving
+};
+
+struct StepTiming {
+  std::size_t step = 0;  // index into the script
+  int cycle = 0;         // which repetition of the script
+  ScriptStep::Action action = ScriptStep::Action::kRest;
+  TargetId target = kNoTarget;
+  double start = 0.0;     // s: the step begins
+  double complete = 0.0;  // s: its completion state (gaze settled, reach complete, upright,
+                          // last free-form stroke ended)
+  double end = 0.0;       // s: complete + the step's seconds
+};
+
+// "look_at", "point", "touch", "explain", "rest" (the names of the site file).
+constexpr std::string_view action_name(ScriptStep::Action action) {
+  switch (action) {
+    case ScriptStep::Action::kLookAt:
+      return "look_at";
+    case ScriptStep::Action::kPoint:
+      return "point";
+    case ScriptStep::Action::kTouch:
+      return "touch";
+    case ScriptStep::Action::kExplain:
+      return "explain";
+    case ScriptStep::Action::kRest:
+      return "rest";
+  }
+  return "?";
+}
+
+}  // namespace deixis

@@ -1,0 +1,86 @@
+#pragma once
+// Where the remote person's pointing and touching end, seen from this site, and how far the
+// avatar's gesture is from this room's copy of the target there, next to the copy-paste
+// baseline (presence/pose_copy.h).
+//
+// The receiving site has only what arrives over the network (no labels, no script), so it finds
+// completion states as an observer would: while the person's hand target is an object, the
+// fingertip moves (faster than 0.3 m/s, on the sender's clock), settles (slower than 0.08 m/s) away
+// from the upright posture (the wrist 0.25 m or more from its rest position) and holds; the last
+// frame of the hold (before the hand moves off or the target changes) is the completion state, as
+// in tests/presence/end_to_end_test.cpp. A hold with the fingertip within 5 cm of the object's
+// surface in the person's own room is a touch, any other a point. Errors, in the avatar's root
+// frame (paper §V.A): pointing, the horizontal and vertical angles between the eye-midpoint →
+// fingertip ray and the ray to the object's centre; touching, the fingertip's distance from the
+// object's surface.
+//
+// observe() runs once per played frame and allocates nothing: samples go into storage reserved
+// at construction (the rest are counted and dropped).
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/target_map.h"
+#include "presence/pose_copy.h"
+
+namespace deixis::app {
+
+struct DeicticError {
+  double horizontal_deg = 0.0;  // pointing
+  double vertical_deg = 0.0;
+  double touch_cm = 0.0;  // touching
+};
+
+struct DeicticSample {
+  double time = 0.0;           // s, this site's clock since streaming began
+  std::uint32_t sequence = 0;  // the frame's sequence number
+  TargetId target = kNoTarget;
+  bool touching = false;
+  DeicticError avatar;  // the translated avatar after IK
+  DeicticError copy;    // the pose copied unchanged
+};
+
+// What the avatar shows this frame: its eye midpoint H and deictic fingertip (world, after IK),
+// and its root O.
+struct AvatarChain {
+  Vec3 eye_midpoint = Vec3::Zero();
+  Vec3 fingertip = Vec3::Zero();
+  Pose T_world_origin;
+};
+
+class DeicticObserver {
+ public:
+  explicit DeicticObserver(std::size_t capacity);
+
+  // One played frame of the remote person (their room), the avatar's chain after this tick, the
+  // copy of the person onto the avatar's root, this room, and the person's room (null until its
+  // map arrives).
+  void observe(const TrackingFrame& frame, std::uint32_t sequence, double time,
+               const AvatarChain& avatar, const PoseCopy& copy, const TargetMap& room,
+               const TargetMap* remote_room);
+  // The stream stopped or ended: a hold in progress ends here.
+  void interrupt();
+
+  std::span<const DeicticSample> samples() const { return samples_; }
+  std::uint64_t dropped() const { return dropped_; }
+
+ private:
+  enum class Phase : std::uint8_t { kWaiting, kMoving, kHolding };
+  void end_hold();
+  void commit();
+  DeicticSample measure(const TrackingFrame& frame, std::uint32_t sequence, double time,
+                        const AvatarChain& avatar, const PoseCopy& copy, const TargetObject& object,
+                        bool touching) const;
+
+  std::vector<DeicticSample> samples_;
+  std::uint64_t dropped_ = 0;
+  Phase phase_ = Phase::kWaiting;
+  TargetId target_ = kNoTarget;
+  bool has_previous_ = false;
+  Vec3 previous_tip_ = Vec3::Zero();
+  double previous_sender_time_ = 0.0;  // s, the previous frame's TrackingFrame::time
+  DeicticSample candidate_;
+};
+
+}  // namespace deixis::app

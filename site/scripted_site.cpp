@@ -1,0 +1,253 @@
+#include "site/scripted_site.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <optional>
+
+#include "core/error.h"
+#include "eval/deictic_observer.h"
+#include "presence/pose_copy.h"
+#include "presence/remote_avatar.h"
+#include "site/site_peer.h"
+#include "site/site_view.h"
+
+namespace deixis::app {
+
+namespace {
+
+constexpr double kTick = 1.0 / 30.0;           // s: 30 Hz (docs/conventions.md#rates-and-windows)
+constexpr std::size_t kMaxCompletions = 1024;  // remote completion states kept per run
+constexpr float kRayShownAbove = 0.5f;         // deictic progression above which rays show
+
+// A ray from `from` through `through`, as long as the distance to `target`.
+AvatarPicture with_ray(AvatarPicture picture, const Vec3& from, const Vec3& through,
+                       const Vec3& target) {
+  const Vec3 direction = through - from;
+  if (direction.norm() > 1e-4f) {
+    picture.show_ray = true;
+    picture.ray_from = from;
+    picture.ray_to = from + direction.normalized() * (target - from).norm();
+  }
+  return picture;
+}
+
+// Within the capacity reserved at construction: the loop never allocates for its statistics.
+void push(std::vector<double>& values, double v) {
+  if (values.size() < values.capacity()) {
+    values.push_back(v);
+  }
+}
+
+// The remote person measured at their completion states against the avatar, and against their
+// pose copied onto it (the copy-paste baseline), as the site runtime plays them.
+class RemoteMeasure final : public RemotePersonWatcher {
+ public:
+  RemoteMeasure(const SiteAssets& assets, SiteRecord& record, const SitePeer& peer)
+      : a_(assets), record_(record), peer_(peer), observer_(kMaxCompletions) {}
+
+  void start(double start) { start_ = start; }
+  void finish() { observer_.interrupt(); }  // a hold still in progress ends with the run
+  const DeicticObserver& observer() const { return observer_; }
+  TargetId last_target() const { return last_target_; }
+
+  void on_new_person(const net::Hello& hello, const presence::RemoteAvatar&) override {
+    copy_.emplace(hello.avatar.body, a_.T_world_remote_origin, a_.solver.rig.height);
+    observer_.interrupt();
+  }
+
+  void on_played(const net::Playout& p, const presence::RemoteAvatar& avatar,
+                 double translation_ms) override {
+    push(record_.translation_ms, translation_ms);
+    const TrackingFrame* frame = p.kind == net::PlayoutKind::kFrame ? p.frame : nullptr;
+    if (frame == nullptr || !avatar.visible() || !copy_) {
+      return;
+    }
+    last_target_ = frame->hand_target;
+    const AvatarChain chain{avatar.eye_midpoint(), avatar.index_fingertip(),
+                            a_.T_world_remote_origin};
+    const net::Session& session = peer_.network().session();
+    observer_.observe(*frame, p.sequence, now_ - start_, chain, *copy_, a_.site.target_map,
+                      session.remote_target_map());
+  }
+
+  void on_no_stream() override { observer_.interrupt(); }
+
+  void set_now(double now) { now_ = now; }
+
+ private:
+  const SiteAssets& a_;
+  SiteRecord& record_;
+  const SitePeer& peer_;
+  std::optional<PoseCopy> copy_;
+  DeicticObserver observer_;
+  TargetId last_target_ = kNoTarget;
+  double start_ = 0.0;
+  double now_ = 0.0;
+};
+
+class ScriptedSite {
+ public:
+  ScriptedSite(const SiteRunOptions& o, const SiteAssets& a, const ScriptedUser& user,
+               SitePeer& peer, SiteView* view)
+      : options_(o),
+        a_(a),
+        user_(user),
+        peer_(peer),
+        view_(view),
+        user_copy_(user.body, a.solver, a.T_world_user_origin),
+        measure_(a, record_, peer) {
+    ticks_ =
+        o.seconds > 0.0 ? static_cast<std::uint64_t>(o.seconds / kTick + 0.5) : user.frames.size();
+    record_.translation_ms.reserve(2 * ticks_ + 64);
+    record_.render_ms.reserve(ticks_);
+  }
+
+  // Services the network until the other site streams; throws as SitePeer::poll does.
+  void connect(const SiteClock& clock) {
+    while (!peer_.streaming()) {
+      const double now = clock.now();
+      peer_.poll(now);
+      if (!peer_.streaming()) {
+        peer_.wait(clock, now + 0.005);
+      }
+    }
+  }
+
+  SiteRecord run(const SiteClock& clock) {
+    start_ = clock.now();
+    measure_.start(start_);
+    for (std::uint64_t k = 0; k < ticks_; ++k) {
+      const double due = start_ + static_cast<double>(k) * kTick;
+      peer_.wait(clock, due);
+      const double now = clock.now();
+      record_.late_ticks += now - due > kTick ? 1 : 0;
+      tick(k, now, due);
+    }
+    const double end = clock.now();
+    measure_.finish();
+    peer_.close(end);
+    if (view_ != nullptr) {
+      view_->finish();
+    }
+    return finish(end);
+  }
+
+ private:
+  LocalTargets room(const TrackingFrame& user) const {
+    return LocalTargets{&a_.site.target_map, user.T_world_head.translation};
+  }
+
+  // `due`: when the tick was scheduled, which is when the user's frame was sampled.
+  void tick(std::uint64_t k, double now, double due) {
+    const std::size_t i = std::min<std::size_t>(k, user_.frames.size() - 1);
+    const TrackingFrame& frame = user_.frames[i];
+    measure_.set_now(now);
+    peer_.tick(frame, due, now, room(frame), &measure_);
+    user_copy_.solve(frame);
+    draw(frame, user_.deictic[i]);
+    ++record_.ticks;
+  }
+
+  void draw(const TrackingFrame& frame, float user_deictic) {
+    if (view_ == nullptr) {
+      return;
+    }
+    AvatarPicture user{user_copy_.T_world_model(), user_copy_.model_pose()};
+    const TargetObject* user_target = a_.site.target_map.find(frame.hand_target);
+    if (user_target != nullptr && user_deictic > kRayShownAbove) {
+      const EndEffectorPoses& copied = user_copy_.targets().deictic;
+      user =
+          with_ray(user, copied.T_world_head.translation, copied.index_tip, user_target->position);
+    }
+    std::optional<AvatarPicture> remote;
+    if (const presence::RemoteAvatar* avatar = peer_.visible_avatar(); avatar != nullptr) {
+      remote = AvatarPicture{avatar->T_world_model(), avatar->model_pose()};
+      const TargetObject* target = a_.site.target_map.find(measure_.last_target());
+      if (target != nullptr && avatar->frame().progression[1] > kRayShownAbove) {
+        remote =
+            with_ray(*remote, avatar->eye_midpoint(), avatar->index_fingertip(), target->position);
+      }
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    view_->draw(user, remote ? &*remote : nullptr);
+    const std::chrono::duration<double, std::milli> took = std::chrono::steady_clock::now() - t0;
+    push(record_.render_ms, took.count());
+  }
+
+  SiteRecord finish(double end) {
+    const net::Session& session = peer_.network().session();
+    record_.site = a_.site.site;
+    record_.role = options_.host ? "host" : "join";
+    record_.peer_site = session.remote_hello() ? session.remote_hello()->site : "?";
+    record_.seconds = end - start_;
+    record_.visible_ticks = peer_.stats().visible_ticks;
+    record_.own_steps = user_.steps;
+    const DeicticObserver& observer = measure_.observer();
+    record_.remote_completions.assign(observer.samples().begin(), observer.samples().end());
+    record_.completions_dropped = observer.dropped();
+    record_.net = session.stats();
+    record_.strangers = session.strangers();
+    record_.auth_failures = session.status().auth_failures;
+    record_.jitter = session.jitter();
+    record_.rejected = session.drops().total;
+    record_.sealed = !options_.passphrase.empty();
+    record_.traffic = peer_.network().link().traffic();
+    record_.video = view_ != nullptr ? "views.mp4" : "";
+    return record_;
+  }
+
+  const SiteRunOptions& options_;
+  const SiteAssets& a_;
+  const ScriptedUser& user_;
+  SitePeer& peer_;
+  SiteView* view_;
+  CopiedAvatar user_copy_;  // the user's own view: their pose copied where they stand
+  SiteRecord record_;
+  RemoteMeasure measure_;
+  std::uint64_t ticks_ = 0;
+  double start_ = 0.0;
+};
+
+}  // namespace
+
+SiteAssets load_site_assets(SiteConfig site, const std::filesystem::path& weights_dir) {
+  avatar::Avatar avatar = avatar::load_avatar(site.avatar_path);
+  ik::AvatarSolver solver = ik::AvatarSolver::build(avatar.rig);
+  std::array<MoeNetworks, 2> networks = {load_moe_networks(weights_dir, Hand::kLeft),
+                                         load_moe_networks(weights_dir, Hand::kRight)};
+  const Pose user_origin = presence::avatar_origin(solver, site.user.T_world_floor());
+  const Pose remote_origin = presence::avatar_origin(solver, site.remote_avatar.T_world_floor());
+  return {std::move(site),     std::move(avatar), std::move(solver),
+          std::move(networks), user_origin,       remote_origin};
+}
+
+SiteRecord run_scripted_site(const SiteRunOptions& o, const SiteAssets& assets,
+                             const ScriptedUser& user) {
+  if (user.frames.empty() || user.deictic.size() != user.frames.size()) {
+    throw Error(o.site.string() + ": the scripted user performed no frames");
+  }
+  const SiteClock clock;
+  const SitePeerOptions peer_options{o.host ? net::Role::kHost : net::Role::kJoiner, o.address,
+                                     o.port, o.passphrase, o.wait};
+  SitePeer peer(peer_options, assets.site, user.body, assets.networks, assets.solver, clock.now());
+  if (o.host) {
+    std::printf("port %u\n", static_cast<unsigned>(peer.port()));
+    std::fflush(stdout);
+  }
+  std::optional<SiteView> view;
+  if (o.video) {
+    view.emplace(assets.site, assets.avatar, o.view_width, o.view_height, o.out_dir / "views.mp4");
+  }
+  ScriptedSite site(o, assets, user, peer, view ? &*view : nullptr);
+  site.connect(clock);
+  const SiteRecord record = site.run(clock);
+  write_site_report(record, o.out_dir / "session.json");
+  print_site_summary(record, stdout);
+  std::printf("wrote %s\n", (o.out_dir / "session.json").string().c_str());
+  return record;
+}
+
+}  // namespace deixis::app

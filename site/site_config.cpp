@@ -1,0 +1,144 @@
+#include "site/site_config.h"
+
+#include <numbers>
+
+#include "core/io/json_reader.h"
+
+namespace deixis::app {
+
+namespace {
+
+using json = JsonReader::json;
+
+constexpr struct {
+  ScriptStep::Action action;
+  std::string_view name;
+  bool needs_target;
+} kActions[] = {{ScriptStep::Action::kLookAt, "look_at", true},
+                {ScriptStep::Action::kPoint, "point", true},
+                {ScriptStep::Action::kTouch, "touch", true},
+                {ScriptStep::Action::kExplain, "explain", false},
+                {ScriptStep::Action::kRest, "rest", false}};
+
+Placement parse_placement(const JsonReader& r, const json& j, const std::string& path) {
+  r.only_fields(j, path, {"floor", "yaw_degrees", "avatar"});
+  Placement p;
+  p.floor = r.vec3(r.member(j, path, "floor"), path + ".floor");
+  p.yaw_degrees = r.number_in(r.member(j, path, "yaw_degrees"), path + ".yaw_degrees", -360, 360);
+  return p;
+}
+
+Camera parse_camera(const JsonReader& r, const json& j, const std::string& path) {
+  r.only_fields(j, path, {"position", "look_at", "fov_degrees"});
+  Camera c;
+  c.position = r.vec3(r.member(j, path, "position"), path + ".position");
+  c.look_at = r.vec3(r.member(j, path, "look_at"), path + ".look_at");
+  if ((c.look_at - c.position).norm() < 1e-3f) {
+    r.fail(path + ".look_at", "must differ from the position");
+  }
+  c.fov_degrees = r.number_in(r.member(j, path, "fov_degrees"), path + ".fov_degrees", 10, 150);
+  return c;
+}
+
+ScriptStep parse_step(const JsonReader& r, const json& j, const std::string& path,
+                      const TargetMap& map) {
+  r.only_fields(j, path, {"action", "target", "seconds"});
+  ScriptStep step;
+  const std::string name = r.string(r.member(j, path, "action"), path + ".action");
+  bool needs_target = false;
+  bool known = false;
+  for (const auto& a : kActions) {
+    if (a.name == name) {
+      step.action = a.action;
+      needs_target = a.needs_target;
+      known = true;
+    }
+  }
+  if (!known) {
+    r.fail(path + ".action",
+           "unknown action '" + name + "' (expected look_at, point, touch, explain or rest)");
+  }
+  if (needs_target) {
+    step.target = static_cast<TargetId>(
+        r.integer_in(r.member(j, path, "target"), path + ".target", 0, 1'000'000));
+    if (step.target != kPartnerTarget && map.find(step.target) == nullptr) {
+      r.fail(path + ".target", "no object with id " + std::to_string(step.target) +
+                                   " in the target map (0 is the other person)");
+    }
+  } else if (j.contains("target")) {
+    r.fail(path + ".target", "'" + name + "' takes no target");
+  }
+  if (j.contains("seconds")) {
+    step.seconds = r.number_in(j["seconds"], path + ".seconds", 0, 600);
+  }
+  return step;
+}
+
+VirtualUser parse_virtual_user(const JsonReader& r, const json& j, const std::string& path,
+                               const TargetMap& map) {
+  r.only_fields(j, path, {"subject", "seed", "script"});
+  VirtualUser user;
+  user.subject = r.string(r.member(j, path, "subject"), path + ".subject");
+  if (j.contains("seed")) {
+    user.seed = static_cast<std::uint64_t>(
+        r.integer_in(j["seed"], path + ".seed", 0, std::int64_t{1} << 62));
+  }
+  const json& script = r.member(j, path, "script");
+  if (!script.is_array() || script.empty() || script.size() > 1000) {
+    r.fail(path + ".script", "expected an array of 1 to 1000 steps");
+  }
+  for (std::size_t i = 0; i < script.size(); ++i) {
+    user.script.push_back(
+        parse_step(r, script[i], path + ".script[" + std::to_string(i) + "]", map));
+  }
+  return user;
+}
+
+}  // namespace
+
+Pose Placement::T_world_floor() const {
+  return {yaw_rotation(yaw_degrees * std::numbers::pi_v<float> / 180.0f), floor};
+}
+
+SiteConfig parse_site_config(std::string_view json_text, std::string_view source,
+                             const std::filesystem::path& base_dir) {
+  const JsonReader r(source);
+  const json j = r.parse_object(json_text);
+  r.only_fields(j, "",
+                {"format", "version", "site", "target_map", "user", "remote_avatar", "camera",
+                 "virtual_user"});
+  const std::string format = r.string(r.member(j, "", "format"), "format");
+  if (format != "deixis-site") {
+    r.fail("format", "expected \"deixis-site\", found \"" + format + "\"");
+  }
+  if (r.integer_in(r.member(j, "", "version"), "version", 0, 1000) != SiteConfig::kFormatVersion) {
+    r.fail("version", "this Deixis reads version " + std::to_string(SiteConfig::kFormatVersion));
+  }
+  SiteConfig config;
+  config.site = r.name(r.member(j, "", "site"), "site");  // the hello carries it
+  config.target_map_path = base_dir / r.string(r.member(j, "", "target_map"), "target_map");
+  try {
+    config.target_map = read_target_map(config.target_map_path);
+  } catch (const Error& e) {
+    r.fail("target_map", e.what());
+  }
+  config.user = parse_placement(r, r.member(j, "", "user"), "user");
+  const json& avatar = r.member(j, "", "remote_avatar");
+  config.remote_avatar = parse_placement(r, avatar, "remote_avatar");
+  config.avatar_path =
+      base_dir / r.string(r.member(avatar, "remote_avatar", "avatar"), "remote_avatar.avatar");
+  if (j.contains("camera")) {
+    config.camera = parse_camera(r, j["camera"], "camera");
+  }
+  if (j.contains("virtual_user")) {
+    config.virtual_user =
+        parse_virtual_user(r, j["virtual_user"], "virtual_user", config.target_map);
+  }
+  return config;
+}
+
+SiteConfig read_site_config(const std::filesystem::path& path) {
+  return parse_site_config(JsonReader::read_file(path), path.string(), path.parent_path());
+}
+
+}  // namespace deixis::app

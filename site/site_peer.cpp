@@ -1,0 +1,105 @@
+#include "site/site_peer.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+
+namespace deixis::app {
+
+namespace {
+
+net::Hello hello_of(const SiteConfig& site, const BodyCalibration& user) {
+  net::Hello h;
+  h.site = site.site;
+  h.avatar.model = "";  // the receiving site chooses what the avatar wears
+  h.avatar.body = user;
+  return h;
+}
+
+}  // namespace
+
+SitePeer::SitePeer(const SitePeerOptions& options, const SiteConfig& site,
+                   const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
+                   const ik::AvatarSolver& solver, double now)
+    : site_(site),
+      networks_(networks),
+      solver_(solver),
+      net_(SiteSessionOptions{options.role, options.address, options.port, options.passphrase},
+           hello_of(site, user), site.target_map) {
+  net_.start(now, options.wait);
+}
+
+void SitePeer::meet_remote_person(const net::Hello& hello, RemotePersonWatcher* watcher) {
+  // A new connection (the first, or after a reconnect): the person may have changed.
+  const BodyCalibration& person = hello.avatar.body;
+  const MoeNetworks& n = networks_[static_cast<std::size_t>(index(person.deictic_hand))];
+  avatar_.emplace(n.mpnet, n.ugnet, solver_,
+                  presence::RemoteAvatarConfig{person, site_.remote_avatar.T_world_floor(), 1});
+  stream_ = net_.session().status().streams;
+  stats_.peer_site = hello.site;
+  spdlog::info("streaming with site {}", hello.site);
+  if (watcher != nullptr) {
+    watcher->on_new_person(hello, *avatar_);
+  }
+}
+
+void SitePeer::tick(const TrackingFrame& user, double sampled, double now, const LocalTargets& room,
+                    RemotePersonWatcher* watcher) {
+  ++stats_.ticks;
+  net_.poll(now);
+  live_ = false;
+  if (net_.streaming()) {
+    net::Session& session = net_.session();
+    if (const net::Hello* hello = session.remote_hello();
+        hello != nullptr && session.status().streams != stream_) {
+      meet_remote_person(*hello, watcher);
+    }
+    TrackingFrame frame = user;
+    // Stamped with its sampling time on the sender's clock, not with when a late loop got to it:
+    // ticks caught up after a stall must not go out bunched, or the other site's jitter buffer
+    // plays them as a jerk.
+    frame.time = sampled;
+    stats_.sent += session.send_tracking(frame) ? 1 : 0;
+    play_due_frames(now, room, watcher);
+  }
+  if (!live_ && watcher != nullptr) {
+    watcher->on_no_stream();
+  }
+  stats_.visible_ticks += visible_avatar() != nullptr ? 1 : 0;
+}
+
+void SitePeer::play_due_frames(double now, const LocalTargets& room, RemotePersonWatcher* watcher) {
+  net::Session& session = net_.session();
+  net::Playout p = session.next_frame(now);
+  for (; p.kind == net::PlayoutKind::kFrame || p.kind == net::PlayoutKind::kMissed;
+       p = session.next_frame(now)) {
+    if (!avatar_) {
+      continue;
+    }
+    const bool missed = p.kind == net::PlayoutKind::kMissed;
+    const auto t0 = std::chrono::steady_clock::now();
+    avatar_->tick(missed ? nullptr : p.frame, room);
+    const std::chrono::duration<double, std::milli> took = std::chrono::steady_clock::now() - t0;
+    stats_.played += missed ? 0 : 1;
+    stats_.missed += missed ? 1 : 0;
+    if (watcher != nullptr) {
+      watcher->on_played(p, *avatar_, took.count());
+    }
+  }
+  live_ = p.kind != net::PlayoutKind::kNoStream;
+}
+
+void SitePeer::wait(const SiteClock& clock, double until) {
+  double now = clock.now();
+  while (now < until) {
+    net_.session().service(now, static_cast<std::uint32_t>(std::max(1.0, (until - now) * 1000.0)));
+    now = clock.now();
+  }
+}
+
+const presence::RemoteAvatar* SitePeer::visible_avatar() const {
+  return live_ && avatar_ && avatar_->visible() ? &*avatar_ : nullptr;
+}
+
+}  // namespace deixis::app

@@ -1,0 +1,96 @@
+#pragma once
+// A site on the network, the one runtime every front end drives (docs/architecture.md): the
+// user's tracking goes to the other site every 30 Hz tick; the other site's person comes back as
+// a translated avatar in this room (presence::RemoteAvatar). `deixis xr` and `deixis sim` drive it
+// from their frame loops, `deixis host` / `join` from the scripted site's 30 Hz loop
+// (site/scripted_site.h). It never blocks: a headset's frame loop must keep submitting frames and
+// a window must keep drawing, so connecting is polled tick by tick (SiteSession::start/poll); a
+// driver with nothing else to do may wait() on the network between ticks.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "presence/remote_avatar.h"
+#include "site/moe_weights.h"
+#include "site/site_config.h"
+#include "site/site_session.h"
+
+namespace deixis::app {
+
+struct SitePeerOptions {
+  net::Role role = net::Role::kHost;
+  std::string address = "127.0.0.1";  // host: where to listen (docs/security.md); joiner: the host
+  std::uint16_t port = 7350;          // host: 0 picks a free one
+  std::string passphrase;
+  double wait = 30.0;  // s for the other site to come
+};
+
+struct SitePeerStats {
+  std::uint64_t ticks = 0, sent = 0, played = 0, missed = 0, visible_ticks = 0;
+  std::string peer_site = "?";
+};
+
+// What a driver that measures the remote person (the scripted site, site/scripted_site.h) is told
+// as they are played. Called from inside tick(); the avatar is the one just ticked.
+class RemotePersonWatcher {
+ public:
+  virtual ~RemotePersonWatcher() = default;
+  // A new stream began (the first, or after a reconnect): the person may have changed.
+  virtual void on_new_person(const net::Hello& hello, const presence::RemoteAvatar& avatar) = 0;
+  // One played frame (null: missed) and how long the translation and IK took.
+  virtual void on_played(const net::Playout& playout, const presence::RemoteAvatar& avatar,
+                         double translation_ms) = 0;
+  // A tick without a live stream (before the first, or after the other site left).
+  virtual void on_no_stream() = 0;
+};
+
+class SitePeer {
+ public:
+  // Binds (host) or resolves (joiner) at once; throws deixis::Error when it cannot. `user`: the
+  // user's calibration, sent in the hello.
+  SitePeer(const SitePeerOptions& options, const SiteConfig& site, const BodyCalibration& user,
+           const std::array<MoeNetworks, 2>& networks, const ik::AvatarSolver& solver, double now);
+
+  std::uint16_t port() const { return net_.port(); }
+  // The other site is there and the two stream (false before, and after it left).
+  bool streaming() const { return net_.streaming(); }
+
+  // One tick: services the link, sends the user's frame once streaming (stamped `sampled`, when
+  // it was sampled on this site's clock), plays the remote person's frames that are due into
+  // their avatar. Throws deixis::Error when refused or when nobody came within `wait` s.
+  // Allocates nothing once streaming (tests/site/site_peer_allocation_test.cpp).
+  void tick(const TrackingFrame& user, double sampled, double now, const LocalTargets& room,
+            RemotePersonWatcher* watcher = nullptr);
+  void tick(const TrackingFrame& user, double now, const LocalTargets& room) {
+    tick(user, now, now, room);
+  }
+  // Services the network without sending or playing (a driver waiting for the other site);
+  // throws as tick() does.
+  void poll(double now) { net_.poll(now); }
+  // Waits on the network until `until` (services it meanwhile, so nothing is late), for a driver
+  // whose loop has nothing else to do between ticks.
+  void wait(const SiteClock& clock, double until);
+
+  // The avatar to draw this tick; null while it must be hidden (no live stream, not yet ready).
+  const presence::RemoteAvatar* visible_avatar() const;
+  const SitePeerStats& stats() const { return stats_; }
+  const SiteSession& network() const { return net_; }
+  void close(double now) { net_.close(now); }
+
+ private:
+  void meet_remote_person(const net::Hello& hello, RemotePersonWatcher* watcher);
+  void play_due_frames(double now, const LocalTargets& room, RemotePersonWatcher* watcher);
+
+  const SiteConfig& site_;
+  const std::array<MoeNetworks, 2>& networks_;
+  const ik::AvatarSolver& solver_;
+  SiteSession net_;
+  std::optional<presence::RemoteAvatar> avatar_;
+  std::uint64_t stream_ = 0;  // the connection the avatar belongs to
+  bool live_ = false;
+  SitePeerStats stats_;
+};
+
+}  // namespace deixis::app

@@ -1,0 +1,50 @@
+#pragma once
+// What a site run measured (docs/demo.md, "session.json"): ticks, network counters, translation
+// and render times, its own user's completion states and the remote avatar's pointing and
+// touching errors at the remote person's completion states next to the copy-paste baseline.
+// Written as JSON and printed as a short table.
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/script_step.h"
+#include "eval/deictic_observer.h"
+#include "net/enet_link.h"
+#include "net/session.h"
+
+namespace deixis::app {
+
+struct SiteRecord {
+  std::string site;
+  std::string role;  // "host" or "join"
+  std::string peer_site;
+  double seconds = 0.0;  // wall time of the 30 Hz loop
+  std::uint64_t ticks = 0;
+  std::uint64_t late_ticks = 0;        // started more than one tick after they were due
+  std::uint64_t visible_ticks = 0;     // the remote avatar was shown
+  std::vector<double> translation_ms;  // per remote frame: translator + whole-avatar IK
+  std::vector<double> render_ms;       // per tick: both views drawn and read back
+  std::vector<StepTiming> own_steps;
+  std::vector<DeicticSample> remote_completions;
+  std::uint64_t completions_dropped = 0;
+  // Network, at the end of the run.
+  net::SessionStats net;
+  net::JitterStats jitter;
+  std::uint64_t rejected = 0;       // packets dropped by the decoder or the session
+  net::StrangerStats strangers;     // host: what became of connections it did not serve
+  std::uint64_t auth_failures = 0;  // proofs that did not verify
+  bool sealed = false;
+  net::EnetLink::Traffic traffic;
+  std::string video;  // file name in the output directory, or empty
+};
+
+// The p-th percentile (0–100) by nearest rank; NaN for no values.
+double percentile(std::vector<double> values, double p);
+
+void write_site_report(const SiteRecord& record, const std::filesystem::path& path);
+void print_site_summary(const SiteRecord& record, std::FILE* out);
+
+}  // namespace deixis::app

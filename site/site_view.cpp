@@ -1,0 +1,86 @@
+#include "site/site_view.h"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <numbers>
+
+namespace deixis::app {
+
+render::Camera site_camera(const Camera& c, int width, int height) {
+  const float vertical = c.fov_degrees * std::numbers::pi_v<float> / 180.0f;
+  return render::look_at(
+      c.position, c.look_at,
+      render::symmetric_fov(vertical, static_cast<float>(width) / static_cast<float>(height)));
+}
+
+SiteView::SiteView(const SiteConfig& site, const avatar::Avatar& avatar, int view_width,
+                   int view_height, const std::filesystem::path& video)
+    : view_width_(view_width),
+      view_height_(view_height),
+      camera_(site_camera(site.camera, view_width, view_height)),
+      context_(view_width, view_height) {
+  renderer_.emplace();
+  renderer_->set_targets(site.target_map);
+  // The user's copy and the remote person wear the same avatar (the site file names one), so
+  // one uploaded mesh serves both.
+  mesh_ = renderer_->add_skinned_mesh(avatar.mesh);
+  frame_.width = 2 * view_width;
+  frame_.height = view_height;
+  frame_.rgb.assign(static_cast<std::size_t>(frame_.width) * view_height * 3, 0);
+  if (!video.empty()) {
+    render::VideoOptions options;
+    options.width = frame_.width;
+    options.height = frame_.height;
+    options.frames_per_second = 30;
+    options.crf = 23;
+    video_ = std::make_unique<render::VideoWriter>(video, options);
+  }
+}
+
+SiteView::~SiteView() {
+  video_.reset();  // ffmpeg finishes (errors only logged) before the GL objects go
+  renderer_.reset();
+}
+
+void SiteView::draw(const AvatarPicture& user, const AvatarPicture* remote) {
+  draw_view(&user, 0);
+  draw_view(remote, 1);
+  if (video_) {
+    video_->write(frame_);
+  }
+}
+
+void SiteView::draw_view(const AvatarPicture* picture, int column) {
+  std::array<render::AvatarDraw, 1> avatars;
+  std::array<render::DebugLine, 1> lines;
+  render::SceneView view;
+  view.camera = camera_;
+  if (picture != nullptr) {
+    avatars[0] = {mesh_, picture->T_world_model, picture->T_model_joint};
+    view.avatars = avatars;
+    if (picture->show_ray) {
+      lines[0].from = picture->ray_from;
+      lines[0].to = picture->ray_to;
+      view.lines = lines;
+    }
+  }
+  const render::RenderTarget target = context_.target();
+  renderer_->render(view, target);
+  context_.present();
+  render::read_pixels(target, view_);
+  // Into its half of the frame, row by row.
+  const std::size_t row = static_cast<std::size_t>(view_width_) * 3;
+  for (int y = 0; y < view_height_; ++y) {
+    std::memcpy(frame_.rgb.data() + (static_cast<std::size_t>(y) * 2 + column) * row,
+                view_.rgb.data() + static_cast<std::size_t>(y) * row, row);
+  }
+}
+
+void SiteView::finish() {
+  if (video_) {
+    video_->finish();
+  }
+}
+
+}  // namespace deixis::app

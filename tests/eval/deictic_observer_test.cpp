@@ -1,0 +1,150 @@
+// The receiving site's completion-state detector (eval/deictic_observer.h) on hand-made streams: a
+// person reaches towards an object at 1 m/s, holds still, then lowers the hand. Exactly one
+// completion state is found, on the last frame of the hold, wherever the frames' local play times
+// fall; frames that arrive late and play in a burst at one local time (a loaded machine, a
+// network hiccup) are not a hand standing still. The errors there are the angles to the object.
+
+#include "eval/deictic_observer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace deixis::app {
+namespace {
+
+constexpr double kPeriod = 1.0 / 30.0;  // s between the sender's frames
+constexpr TargetId kCup = 1;
+
+struct Scene {
+  BodyCalibration user;  // root O at the world origin, facing −Z, right-handed pointer
+  PoseCopy copy{user, Pose(), 1.70f};
+  TargetMap room{"B",
+                 {TargetObject{kCup, "cup", TargetKind::kSphere, Vec3(0.4f, 0.0f, -1.5f),
+                               Vec3::Constant(0.1f)}}};
+};
+
+// The sender's frame `k` with the fingertip at depth `z`, the wrist behind it well away from its
+// rest position.
+TrackingFrame frame_at(int k, float z, TargetId target = kCup) {
+  TrackingFrame f;
+  f.time = 10.0 + k * kPeriod;  // the sender's clock has its own origin
+  f.hand_target = target;
+  f.T_world_wrist[index(Hand::kRight)].translation = Vec3(0.3f, -0.1f, z + 0.15f);
+  f.index_tip[index(Hand::kRight)] = Vec3(0.3f, -0.1f, z);
+  return f;
+}
+
+// The avatar points exactly at the cup: its fingertip on the line from the eyes to the cup.
+AvatarChain pointing_at(const Scene& s) {
+  const Vec3 eyes = Vec3::Zero();
+  return {eyes, eyes + 0.6f * (s.room.objects[0].position - eyes).normalized(), Pose()};
+}
+
+// A receiving site's observer watching the scene's person, the avatar pointing at the cup.
+struct Watch {
+  Scene scene;
+  AvatarChain chain = pointing_at(scene);
+  DeicticObserver observer;
+
+  explicit Watch(std::size_t capacity) : observer(capacity) {}
+
+  void play(int k, float z, double local_time, TargetId target = kCup) {
+    observer.observe(frame_at(k, z, target), static_cast<std::uint32_t>(k), local_time, chain,
+                     scene.copy, scene.room, &scene.room);
+  }
+};
+
+// The fingertip's depth in frame `k` of a reach at 1 m/s (frames 0..12), a hold (13..21) and a
+// lowering at 1 m/s (22..27).
+float reach_hold_lower_z(int k) {
+  const float step = static_cast<float>(kPeriod);
+  const float reached = -0.2f - 12 * step;
+  if (k <= 12) {
+    return -0.2f - static_cast<float>(k) * step;
+  }
+  return k <= 21 ? reached : reached + static_cast<float>(k - 21) * step;
+}
+
+// The reach, hold and lowering, then the target dropped (frame 28); each frame's local play time
+// from `local_time(k)`.
+template <typename LocalTime>
+std::vector<DeicticSample> observe_reach_hold_lower(LocalTime local_time) {
+  Watch watch(8);
+  for (int k = 0; k <= 28; ++k) {
+    watch.play(k, reach_hold_lower_z(k), local_time(k), k < 28 ? kCup : kNoTarget);
+  }
+  const auto samples = watch.observer.samples();
+  return {samples.begin(), samples.end()};
+}
+
+TEST(DeicticObserver, OneCompletionStateOnTheLastFrameOfTheHold) {
+  const auto samples = observe_reach_hold_lower([](int k) { return k * kPeriod; });
+  ASSERT_EQ(samples.size(), 1u);
+  // Frame 13 is the first still one; frame 22 moves off, which ends the hold on frame 21.
+  EXPECT_EQ(samples[0].sequence, 21u);
+  EXPECT_EQ(samples[0].target, kCup);
+  EXPECT_FALSE(samples[0].touching);
+  EXPECT_NEAR(samples[0].avatar.horizontal_deg, 0.0, 0.01);
+  EXPECT_NEAR(samples[0].avatar.vertical_deg, 0.0, 0.01);
+  EXPECT_GT(samples[0].copy.horizontal_deg, 1.0);  // the copied pose points elsewhere
+}
+
+TEST(DeicticObserver, FramesPlayedInABurstAtOneLocalTimeAreNotAHold) {
+  // Every three frames arrive together and play at the same local time: the local clock sees the
+  // reaching hand not move at all between frames of a burst.
+  const auto samples = observe_reach_hold_lower([](int k) { return (k / 3) * 3 * kPeriod; });
+  ASSERT_EQ(samples.size(), 1u);
+  EXPECT_EQ(samples[0].sequence, 21u);
+}
+
+TEST(DeicticObserver, ALateGapInLocalPlayTimeIsNotAHold) {
+  // A 0.5 s stall mid-reach: the local clock would read the hand as crawling (0.06 m/s).
+  const auto samples =
+      observe_reach_hold_lower([](int k) { return k * kPeriod + (k >= 5 ? 0.5 : 0.0); });
+  ASSERT_EQ(samples.size(), 1u);
+  EXPECT_EQ(samples[0].sequence, 21u);
+}
+
+TEST(DeicticObserver, AFrameNoLaterThanTheLastOnTheSendersClockIsNotAHold) {
+  // Frame 6 of the reach comes twice (same sender time, same place): no speed, so no hold. A NaN
+  // sender time takes the same path.
+  Watch watch(8);
+  for (int k = 0; k <= 28; ++k) {
+    const TargetId target = k < 28 ? kCup : kNoTarget;
+    watch.play(k, reach_hold_lower_z(k), k * kPeriod, target);
+    if (k == 6) {
+      watch.play(k, reach_hold_lower_z(k), k * kPeriod, target);
+    }
+  }
+  ASSERT_EQ(watch.observer.samples().size(), 1u);
+  EXPECT_EQ(watch.observer.samples()[0].sequence, 21u);
+}
+
+TEST(DeicticObserver, AStoppedStreamEndsTheHoldInProgress) {
+  Watch watch(8);
+  for (int k = 0; k < 18; ++k) {  // the reach and five frames of the hold
+    watch.play(k, reach_hold_lower_z(k), k * kPeriod);
+  }
+  EXPECT_TRUE(watch.observer.samples().empty());  // still holding
+  watch.observer.interrupt();
+  ASSERT_EQ(watch.observer.samples().size(), 1u);
+  EXPECT_EQ(watch.observer.samples()[0].sequence, 17u);
+}
+
+TEST(DeicticObserver, SamplesBeyondItsCapacityAreCountedAndDropped) {
+  Watch watch(1);
+  int k = 0;
+  for (int hold = 0; hold < 3; ++hold) {
+    for (int i = 0; i < 17; ++i, ++k) {  // the reach and four frames of the hold
+      watch.play(k, reach_hold_lower_z(i), k * kPeriod);
+    }
+    watch.observer.interrupt();
+  }
+  EXPECT_EQ(watch.observer.samples().size(), 1u);
+  EXPECT_EQ(watch.observer.dropped(), 2u);
+}
+
+}  // namespace
+}  // namespace deixis::app
