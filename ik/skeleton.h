@@ -1,8 +1,8 @@
 #pragma once
-// A skeleton as a flat array of joints in depth-first order (STYLE.md, ozz): every joint's parent
-// comes before it, so "local to model" is one forward loop. Poses use Deixis' world conventions:
-// +Y up, and a humanoid in its rest pose faces −Z (glTF's +Z-facing assets are turned once at
-// load).
+// A skeleton as a flat array of joints in depth-first order (after ozz-animation): every joint's
+// parent comes before it, so "local to model" is one forward loop. Poses use Deixis' world
+// conventions: +Y up, and a humanoid in its rest pose faces −Z (glTF's +Z-facing assets are turned
+// once at load).
 
 #include <cstdint>
 #include <span>

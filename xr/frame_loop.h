@@ -1,5 +1,5 @@
 #pragma once
-// The OpenXR event and frame loop by hello_xr's rules (/work/shared/STYLE.md): events drive the
+// The OpenXR event and frame loop by the rules of Khronos' hello_xr: events drive the
 // session lifecycle through xr/session_state.h; while the session runs, every frame is
 // xrWaitFrame → xrBeginFrame → (xrSyncActions with focus) → input at the predicted display time →
 // xrLocateViews → render each view into its swapchain image when shouldRender → xrEndFrame with

@@ -1,7 +1,7 @@
 #pragma once
-// The OpenXR session lifecycle as a pure function of events (STYLE.md, hello_xr): what the front
-// end must do when the runtime reports a session state, when the user asks to quit, or when the
-// instance is about to be lost. No OpenXR calls here, so the rules are unit-tested without a
+// The OpenXR session lifecycle as a pure function of events (after Khronos' hello_xr): what the
+// front end must do when the runtime reports a session state, when the user asks to quit, or when
+// the instance is about to be lost. No OpenXR calls here, so the rules are unit-tested without a
 // runtime (tests/xr/session_state_test.cpp).
 //
 //   IDLE ─▶ READY ─(begin)▶ SYNCHRONIZED ─▶ VISIBLE ─▶ FOCUSED

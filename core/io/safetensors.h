@@ -1,7 +1,7 @@
 #pragma once
 // safetensors: the one file format Deixis uses for weights and datasets
 // (https://huggingface.co/docs/safetensors). Layout: an 8-byte little-endian header length N, N
-// bytes of JSON, then the data section. Every field is validated before use (STYLE.md, ggml): the
+// bytes of JSON, then the data section. Every field is validated before use (as ggml does): the
 // header length against the file, the JSON's shape, dtypes, shapes, numel × size without overflow,
 // offsets that tile the data section exactly (in range, ordered, no overlap, no gap), no duplicate
 // names; and at use, the expected names, dtypes and shapes and finite values. Each error names the
