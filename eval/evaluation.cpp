@@ -501,23 +501,26 @@ void measure_networks(Tables& t, const EvalOptions& o, std::vector<Networks>& ne
 
 void add_notes(Tables& t, const EvalOptions& o, bool have_encoder) {
   const std::string fmd =
-      have_encoder ? "FMD: mean ± population std over subjects × trials (NOTES §7.5)."
-                   : "FMD: n/a — no trained motion encoder was found (train it with `deixis-train "
-                     "autoencoder`, then pass --fmd-encoder DIR or put AutoEncoder.safetensors "
-                     "in a weight set's right/ and left/); the authors' AutoEncoder600.pt is "
-                     "missing from their release (NOTES §1), so no FMD number is invented.";
+      have_encoder
+          ? "FMD: mean ± population std over subjects × trials (docs/eval.md)."
+          : "FMD: n/a — no trained motion encoder was found (train it with `deixis-train "
+            "autoencoder`, then pass --fmd-encoder DIR or put AutoEncoder.safetensors "
+            "in a weight set's right/ and left/); the authors' AutoEncoder600.pt is "
+            "missing from their release (docs/conventions.md), so no FMD number is invented.";
   t.one.notes = {
       "MoE (AC) = Ours_AC, MoE (DG) = Ours_DG: MPNet GRU-MoE → UGNet MoE of that variant.",
       "AMNet_DG: not evaluated. Its 12 input angles are signed angles whose sign conventions "
-      "and reference axes come from the authors' unreleased Unity code (NOTES §8, §12), its "
-      "target feature's convention is only assumed (NOTES §12), and its 'remote' window is the "
+      "and reference axes come from the authors' unreleased Unity code (docs/conventions.md, "
+      "AMNet), its "
+      "target feature's convention is only assumed (docs/conventions.md), and its 'remote' window "
+      "is the "
       "avatar's own angle features one frame behind, computed by the same unreleased client. "
       "Our data give the raw positions, but any number would measure our guess at those "
       "conventions, not AMNet (the checkpoint itself runs and matches the authors' fixtures: "
       "`deixis parity`).",
       "copy-paste: the avatar takes the user's end-effectors unchanged (pose relative to the "
       "user's root, put at the avatar's); its FMD is 0 by construction, since FMD's real "
-      "motion is the user's own (NOTES §7.5).",
+      "motion is the user's own (docs/eval.md).",
       fmd};
   if (have_encoder) {
     for (const Hand hand : {Hand::kRight, Hand::kLeft}) {
@@ -533,19 +536,19 @@ void add_notes(Tables& t, const EvalOptions& o, bool have_encoder) {
       "deixis-train's manifests."};
   t.three.notes = {
       "MPE: mean |p̂ − p| over frames and the three channels, every sequence of every category "
-      "prefixed with 29 copies of its first row (NOTES §7.1).",
+      "prefixed with 29 copies of its first row (docs/eval.md).",
       "SS on the test subjects' two-target sequences (the authors used their training subject's, "
-      "NOTES §7.2; no number may come from the training subject)."};
+      "docs/eval.md; no number may come from the training subject)."};
   t.four.notes = {
       "DIP: all (user, avatar) pairs of the single-target categories, onset → completion "
-      "aligned by PCHIP, read 10 frames after the completion state (NOTES §7.3; "
+      "aligned by PCHIP, read 10 frames after the completion state (docs/eval.md; "
       "docs/decisions.md).",
       "DR: UGNet alone from the test subjects' completion poses, each followed by abrupt "
       "changes to other sequences' targets (14 pointing, 29 touching per start; the authors' "
-      "hard-coded pose and targets are not available), 30 frames each (NOTES §7.4).",
+      "hard-coded pose and targets are not available), 30 frames each (docs/eval.md).",
       fmd};
   t.five.notes = {
-      "Missed tracking as the authors' code (NOTES §7.6): at 0, 1, 2 … s, with probability 0.3, "
+      "Missed tracking as the authors' code (docs/eval.md): at 0, 1, 2 … s, with probability 0.3, "
       "the user's rows are held for the duration. Jitter and continuous noise are ours "
       "(eval/perturbation.h): 3 % of frames jump 5–15 cm / 10–30°; σ = 1 cm, 2° (gaze 1°) every "
       "frame.",
@@ -684,7 +687,8 @@ Report evaluate(const EvalOptions& options) {
   report.figure5 = figure5_of(tables.five, options.weights);
   report.tables = {tables.one, tables.two, tables.three, tables.four, tables.five};
   report.notes = {
-      "Held-out synthetic subjects only (deixis capture, DESIGN §7); the training subject 170 is "
+      "Held-out synthetic subjects only (deixis capture, docs/conventions.md); the training "
+      "subject 170 is "
       "refused. Left-handed subjects use the left-hand weights on their own view "
       "(docs/decisions.md §17).",
       "The paper's figures (their capture data): Table I Ours_AC HE 2.37°, VE 1.57°, PE 3.08 cm, "
