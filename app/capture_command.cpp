@@ -8,13 +8,13 @@
 #include <iostream>
 
 #include "app/commands.h"
-#include "capture/csv.h"
-#include "capture/dataset.h"
 #include "capture/generate.h"
-#include "capture/judge.h"
 #include "capture/preview.h"
 #include "capture/tracker_noise.h"
 #include "core/error.h"
+#include "dataset/csv.h"
+#include "dataset/dataset.h"
+#include "eval/judge.h"
 #include "gesture/features.h"
 
 namespace deixis::app {
@@ -22,6 +22,13 @@ namespace deixis::app {
 namespace {
 
 using namespace deixis::capture;
+using dataset::Dataset;
+using eval::authors_checkpoint;
+using eval::judge;
+using eval::JudgeOptions;
+using eval::MpeSum;
+using eval::predict_progressions;
+using eval::SubjectVerdict;
 
 int fail(const char* command, const std::exception& e) {
   std::fprintf(stderr, "deixis capture %s: %s\n", command, e.what());
@@ -112,7 +119,7 @@ int run_capture_generate(const CaptureGenerateOptions& o) {
 int run_capture_preview(const CapturePreviewOptions& o) {
   try {
     const Subject& subject = find_subject(o.subject);
-    const Category category = parse_category(o.category);
+    const Category category = dataset::parse_category(o.category);
     if (o.set != kTrainingSet && o.set != kTestSet && o.set != kValidationSet) {
       throw Error("unknown set '" + o.set + "' (known: train, test, validation)");
     }

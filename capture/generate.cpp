@@ -4,13 +4,14 @@
 #include <chrono>
 #include <cmath>
 
-#include "capture/dataset.h"
 #include "capture/mirror.h"
 #include "capture/random.h"
 #include "capture/script.h"
 #include "capture/speed.h"
 #include "capture/tracker_noise.h"
 #include "core/error.h"
+#include "dataset/dataset.h"
+#include "gesture/features.h"
 
 namespace deixis::capture {
 
@@ -39,7 +40,40 @@ std::string categories_list() {
   return out;
 }
 
-void describe(DatasetWriter& w, const Plan& plan, const GenerateOptions& options, bool mirrored) {
+// A recording into a dataset, with the network columns computed by the runtime's own feature code
+// (gesture/features.h). Dropped parts already hold their last valid values (tracker_noise.h), as
+// the runtime holds them.
+void add_recording(dataset::DatasetWriter& w, const Sequence& s, std::int32_t source) {
+  static_assert(dataset::kFeatureColumns == kMpnetFeatureCount);
+  static_assert(dataset::kTargetFeatureColumn == mf::kTarget);
+  std::vector<float> features;
+  std::vector<float> poses;
+  features.reserve(s.size() * kMpnetFeatureCount);
+  poses.reserve(s.size() * kEndEffectorSize);
+  for (const TrackingFrame& f : s.frames) {
+    const MpnetFeatureRow row = mpnet_features(f, s.calibration);
+    features.insert(features.end(), row.begin(), row.end());
+    const EndEffectors x = end_effectors(f, s.calibration);
+    poses.insert(poses.end(), x.begin(), x.end());
+  }
+  dataset::SequenceRows rows;
+  rows.category = s.category;
+  rows.source = source;
+  rows.seed = s.seed;
+  rows.speed = s.speed;
+  rows.mirrored = s.mirrored;
+  rows.body = s.calibration;
+  rows.targets = s.targets;
+  rows.frames = s.frames;
+  rows.labels = s.labels;
+  rows.phase_keys = s.phase_keys;
+  rows.mpnet_features = features;
+  rows.end_effectors = poses;
+  w.add(rows);
+}
+
+void describe(dataset::DatasetWriter& w, const Plan& plan, const GenerateOptions& options,
+              bool mirrored) {
   const Subject& s = *plan.subject;
   const bool left = (s.handedness == Hand::kLeft) != mirrored;
   w.set_metadata("set", plan.set);
@@ -173,8 +207,8 @@ std::vector<GeneratedFile> generate_datasets(const GenerateOptions& options,
     const TrackerNoise& noise = training ? train_noise : test_noise;
     const std::string name =
         training ? std::string("train_right") : plan.set + "_" + plan.subject->name;
-    DatasetWriter writer;
-    DatasetWriter mirrored;
+    dataset::DatasetWriter writer;
+    dataset::DatasetWriter mirrored;
     describe(writer, plan, options, false);
     describe(mirrored, plan, options, true);
 
@@ -198,9 +232,9 @@ std::vector<GeneratedFile> generate_datasets(const GenerateOptions& options,
           Sequence s = speed == 1.0f ? clean : resample_speed(clean, speed);
           s.joints.clear();
           apply_tracker_noise(s, noise, noise_seed(clean.seed, speed));
-          writer.add(s, source);
+          add_recording(writer, s, source);
           if (training) {
-            mirrored.add(mirror(s), source);
+            add_recording(mirrored, mirror(s), source);
           }
         }
         progress(name, ++done, total, writer.frames());

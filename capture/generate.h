@@ -16,7 +16,6 @@
 #include <string_view>
 #include <vector>
 
-#include "capture/category.h"
 #include "capture/sequence.h"
 #include "capture/subject.h"
 

@@ -4,12 +4,15 @@
 #include <cmath>
 #include <cstdio>
 
-#include "capture/raster.h"
 #include "core/error.h"
+#include "dataset/raster.h"
 
 namespace deixis::capture {
 
 namespace {
+
+using dataset::Canvas;
+using dataset::Rgb;
 
 constexpr int kWidth = 1200;
 constexpr int kHeight = 920;

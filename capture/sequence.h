@@ -9,17 +9,22 @@
 #include <string>
 #include <vector>
 
-#include "capture/category.h"
 #include "capture/posture.h"
 #include "core/target_map.h"
 #include "core/tracking.h"
+#include "dataset/category.h"
+#include "dataset/schema.h"
 
 namespace deixis::capture {
 
 // The networks' rate (docs/conventions.md#rates-and-windows).
 inline constexpr double kFrameRate = 30.0;  // Hz
 
-using Labels = std::array<float, 3>;  // progression (gaze, deictic, idle), paper §III.B
+// The categories a person performs and the labels a recording carries are the datasets'
+// (dataset/category.h; progression (gaze, deictic, idle), paper §III.B).
+using dataset::Category;
+using dataset::kAllCategories;
+using dataset::Labels;
 
 struct Sequence {
   std::string subject;

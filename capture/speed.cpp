@@ -4,8 +4,8 @@
 #include <cmath>
 #include <functional>
 
-#include "capture/pchip.h"
 #include "core/error.h"
+#include "dataset/pchip.h"
 
 namespace deixis::capture {
 
@@ -29,7 +29,7 @@ void resample_channel(const std::vector<In>& in, std::size_t count, Read read, W
   for (std::size_t i = 0; i < in.size(); ++i) {
     y[i] = read(in[i]);
   }
-  const std::vector<double> out = pchip_resample(y, count);
+  const std::vector<double> out = dataset::pchip_resample(y, count);
   for (std::size_t j = 0; j < count; ++j) {
     write(j, out[j]);
   }

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "capture/pchip.h"
+#include "dataset/pchip.h"
 
 namespace deixis::eval {
 
@@ -23,7 +23,7 @@ std::array<float, N> row_at(const std::vector<float>& rows, std::size_t i) {
 struct Columns {
   std::vector<float> features, x, target;
 };
-Columns resampled(const capture::Dataset& d, std::size_t first, std::size_t last,
+Columns resampled(const dataset::Dataset& d, std::size_t first, std::size_t last,
                   std::size_t count) {
   return {resample_rows(d.mpnet_features, kMpnetFeatureCount, first, last, count),
           resample_rows(d.end_effectors, kEndEffectorSize, first, last, count),
@@ -69,7 +69,7 @@ std::vector<float> resample_rows(std::span<const float> rows, int width, std::si
       column[i] = static_cast<double>(rows[(first + i) * w + c]);
     }
     const std::vector<double> values =
-        n == 1 ? std::vector<double>(count, column[0]) : capture::pchip_resample(column, count);
+        n == 1 ? std::vector<double>(count, column[0]) : dataset::pchip_resample(column, count);
     for (std::size_t i = 0; i < count; ++i) {
       out[i * w + c] = static_cast<float>(values[i]);
     }
@@ -107,7 +107,7 @@ std::optional<AlignedPair> align_at_completion(const TestSet& set, std::size_t u
   if (!done_u || !done_a) {
     return std::nullopt;
   }
-  const capture::Dataset& d = set.data();
+  const dataset::Dataset& d = set.data();
   const std::size_t bu = d.begin(user), ba = d.begin(avatar);
   // Phase 1, onset → completion inclusive, both at the longer length.
   const std::size_t phase = std::max(*done_u - *onset_u, *done_a - *onset_a) + 1;
@@ -134,7 +134,7 @@ AlignedPair align_whole(const TestSet& set, std::size_t user, std::size_t avatar
   const std::size_t onset_a = first_key(set, avatar).value_or(0);
   const std::vector<std::size_t> bu = phase_bounds(set, user, onset_u);
   const std::vector<std::size_t> ba = phase_bounds(set, avatar, onset_a);
-  const capture::Dataset& d = set.data();
+  const dataset::Dataset& d = set.data();
   const std::size_t user_rows = set.length(user) - onset_u;
   const std::size_t u0 = d.begin(user), a0 = d.begin(avatar);
   const Columns u = resampled(d, u0 + onset_u, u0 + set.length(user) - 1, user_rows);

@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "capture/raster.h"
+#include "dataset/raster.h"
 
 namespace deixis::eval {
 
 namespace {
 
-using capture::Canvas;
-using capture::Rgb;
+using dataset::Canvas;
+using dataset::Rgb;
 
 constexpr int kPanelWidth = 360;
 constexpr int kPanelHeight = 260;

@@ -1,6 +1,6 @@
 #pragma once
 // Fig. 5 of the paper as a PNG: four panels (MPJPE, MPJRE, MPJLVE, MPJAVE) against the duration
-// of missed tracking, one line per row evaluated, drawn with the capture's rasteriser.
+// of missed tracking, one line per row evaluated, drawn with dataset/raster.h.
 
 #include <filesystem>
 #include <span>

@@ -11,7 +11,7 @@ namespace deixis::eval {
 
 namespace {
 
-using capture::Category;
+using dataset::Category;
 constexpr int kRows = nn::kWindowRows;
 constexpr std::array<Category, 2> kSingleTarget = {Category::kPointingSingle,
                                                    Category::kTouchingSingle};
@@ -110,13 +110,13 @@ std::vector<std::size_t> selected(const TestSet& set, Category category, const S
 
 MpeResult run_mpe(const nn::Mpnet& mpnet, const TestSet& set, const Sampling& sampling) {
   MpeResult r;
-  const capture::Dataset& d = set.data();
-  for (const Category c : capture::kAllCategories) {
+  const dataset::Dataset& d = set.data();
+  for (const Category c : dataset::kAllCategories) {
     for (const std::size_t s : selected(set, c, sampling)) {
       const std::span<const float> rows(d.mpnet_features.data() + d.begin(s) * kMpnetFeatureCount,
                                         set.length(s) * kMpnetFeatureCount);
-      const std::vector<capture::Labels> p = capture::predict_progressions(mpnet, rows);
-      capture::MpeSum sum;
+      const std::vector<dataset::Labels> p = predict_progressions(mpnet, rows);
+      MpeSum sum;
       for (std::size_t k = 0; k < p.size(); ++k) {
         const std::array<float, 3> label = set.labels(s, k);
         for (int ch = 0; ch < 3; ++ch) {
@@ -191,7 +191,7 @@ std::vector<nn::Progression> user_progressions(const nn::Mpnet& mpnet, const Ali
     rows.insert(rows.end(), pair.frames[k].user_features.begin(),
                 pair.frames[k].user_features.end());
   }
-  return capture::predict_progressions(mpnet, rows);  // Labels are progressions
+  return predict_progressions(mpnet, rows);  // Labels are progressions
 }
 
 std::vector<std::vector<EndEffectors>> run_chains(
@@ -283,7 +283,7 @@ DipResult run_dip(const Generator& g, const TestSet& set, const Sampling& sampli
     const std::vector<std::vector<EndEffectors>> x = run_chains(g, pairs, scale_of(set), seeds);
     for (std::size_t p = 0; p < pairs.size(); ++p) {
       const DeicticChain chain = deictic_chain(x[p].back());
-      if (capture::is_touching(c)) {
+      if (dataset::is_touching(c)) {
         r.pe.add(touching_error_cm(chain, pairs[p].avatar_target));
       } else {
         const PointingError e = pointing_error(chain, pairs[p].avatar_target);
@@ -366,7 +366,7 @@ std::vector<CompletionState> completion_states(const TestSet& set, Category c,
 DrResult run_dr(const nn::Ugnet* ugnet, const TestSet& set, const Sampling& sampling) {
   DrResult r;
   for (const Category c : kSingleTarget) {
-    const bool touching = capture::is_touching(c);
+    const bool touching = dataset::is_touching(c);
     const std::vector<CompletionState> states = completion_states(set, c, sampling);
     const std::size_t targets =
         touching ? sampling.dr_targets_touching : sampling.dr_targets_pointing;
@@ -404,7 +404,7 @@ std::vector<double> run_fmd(const Generator& g, const nn::MotionEncoder& encoder
     }
     std::mt19937_64 rng = stream(sampling.seed, 0x666d64, static_cast<std::uint64_t>(trial));
     Codes real, generated;
-    for (const Category c : capture::kAllCategories) {
+    for (const Category c : dataset::kAllCategories) {
       const std::vector<std::size_t> list = selected(set, c, sampling);
       if (list.empty()) {
         continue;
@@ -484,7 +484,7 @@ void DeviationMean::add(const MotionDeviation& d) {
 RobustnessResult run_robustness(const Generator& g, const TestSet& set, const Sampling& sampling) {
   RobustnessResult r;
   const float scale = scale_of(set);
-  for (const Category c : capture::kAllCategories) {
+  for (const Category c : dataset::kAllCategories) {
     const std::vector<std::size_t> list = selected(set, c, sampling);
     for (std::size_t i = 0; i < list.size(); ++i) {
       for (const std::size_t j : partners_of(list, i, sampling.robustness_partners)) {

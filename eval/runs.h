@@ -19,8 +19,8 @@
 #include <span>
 #include <vector>
 
-#include "capture/judge.h"
 #include "eval/alignment.h"
+#include "eval/judge.h"
 #include "eval/metrics.h"
 #include "eval/test_set.h"
 #include "gesture/nn/motion_encoder.h"
@@ -63,14 +63,14 @@ struct Mean {
 };
 
 // The sequences of a category a run reads (the first `per_category`, in file order).
-std::vector<std::size_t> selected(const TestSet& set, capture::Category category,
+std::vector<std::size_t> selected(const TestSet& set, dataset::Category category,
                                   const Sampling& sampling);
 
 // ---- MPNet ---------------------------------------------------------------------------------
 
 struct MpeResult {
-  std::array<capture::MpeSum, capture::kCategoryCount> categories;
-  capture::MpeSum all;
+  std::array<MpeSum, dataset::kCategoryCount> categories;
+  MpeSum all;
 };
 MpeResult run_mpe(const nn::Mpnet& mpnet, const TestSet& set, const Sampling& sampling);
 

@@ -11,7 +11,6 @@ namespace deixis::eval {
 namespace {
 
 namespace fs = std::filesystem;
-using Shape = std::vector<std::int64_t>;
 
 const std::string& metadata(const SafetensorsFile& file, const char* key) {
   return file.metadata_value(key);
@@ -44,36 +43,6 @@ float parse_height(const SafetensorsFile& file) {
   throw Error(file.source() + ": metadata height=" + text + " is not a height in metres");
 }
 
-Quat quaternion(std::span<const float> xyzw) {
-  return Quat(xyzw[3], xyzw[0], xyzw[1], xyzw[2]).normalized();
-}
-
-std::vector<BodyCalibration> read_bodies(const SafetensorsFile& file, Hand hand,
-                                         std::size_t sequences) {
-  const auto s = static_cast<std::int64_t>(sequences);
-  const std::vector<float> root_position = file.read_f32("root_position", Shape{s, 3});
-  const std::vector<float> root_rotation = file.read_f32("root_rotation", Shape{s, 4});
-  const std::vector<float> rest = file.read_f32("rest_wrist_in_root", Shape{s, 2, 3});
-  const std::vector<float> body = file.read_f32("body", Shape{s, 2});
-  std::vector<BodyCalibration> bodies(sequences);
-  for (std::size_t i = 0; i < sequences; ++i) {
-    BodyCalibration& b = bodies[i];
-    b.height = body[i * 2];
-    b.arm_length = body[i * 2 + 1];
-    b.deictic_hand = hand;
-    b.T_world_root.rotation =
-        quaternion(std::span(root_rotation).subspan(i * 4, 4)).toRotationMatrix();
-    b.T_world_root.translation =
-        Vec3(root_position[i * 3], root_position[i * 3 + 1], root_position[i * 3 + 2]);
-    for (int h = 0; h < 2; ++h) {
-      const std::size_t at = (i * 2 + static_cast<std::size_t>(h)) * 3;
-      b.rest_wrist_in_root[static_cast<std::size_t>(h)] =
-          Vec3(rest[at], rest[at + 1], rest[at + 2]);
-    }
-  }
-  return bodies;
-}
-
 Vec3 vec3_at(const std::vector<float>& v, std::size_t row) {
   return {v[row * 3], v[row * 3 + 1], v[row * 3 + 2]};
 }
@@ -91,12 +60,15 @@ TestSet TestSet::read(const fs::path& path) {
   }
   t.hand_ = hand == "left" ? Hand::kLeft : Hand::kRight;
   t.height_ = parse_height(file);
-  t.data_ = capture::Dataset::read(path);
-  t.bodies_ = read_bodies(file, t.hand_, t.data_.sequences());
+  t.data_ = dataset::Dataset::read(file);
+  for (std::size_t s = 0; s < t.data_.sequences(); ++s) {
+    t.bodies_.push_back(t.data_.calibration(s));
+    t.bodies_.back().deictic_hand = t.hand_;  // the person's, as the metadata says
+  }
   return t;
 }
 
-std::vector<std::size_t> TestSet::of_category(capture::Category c) const {
+std::vector<std::size_t> TestSet::of_category(dataset::Category c) const {
   std::vector<std::size_t> out;
   for (std::size_t s = 0; s < sequences(); ++s) {
     if (category(s) == c) {
@@ -138,26 +110,7 @@ Vec3 TestSet::hand_target_in_root(std::size_t s, std::size_t k) const {
 }
 
 TrackingFrame TestSet::tracking(std::size_t s, std::size_t k) const {
-  const std::size_t row = data_.begin(s) + k;
-  TrackingFrame f;
-  f.time = static_cast<double>(data_.time[row]);
-  f.T_world_head.translation = vec3_at(data_.head_position, row);
-  f.T_world_head.rotation =
-      quaternion(std::span(data_.head_rotation).subspan(row * 4, 4)).toRotationMatrix();
-  f.gaze = vec3_at(data_.gaze, row);
-  for (std::size_t h = 0; h < 2; ++h) {
-    f.T_world_wrist[h].translation = vec3_at(data_.wrist_position, row * 2 + h);
-    f.T_world_wrist[h].rotation =
-        quaternion(std::span(data_.wrist_rotation).subspan((row * 2 + h) * 4, 4))
-            .toRotationMatrix();
-    f.index_tip[h] = vec3_at(data_.index_tip, row * 2 + h);
-  }
-  f.valid = data_.valid[row];
-  f.head_target = data_.head_target_id[row];
-  f.hand_target = data_.hand_target_id[row];
-  f.head_target_position = vec3_at(data_.head_target_position, row);
-  f.hand_target_position = vec3_at(data_.hand_target_position, row);
-  return f;
+  return data_.tracking(data_.begin(s) + k);
 }
 
 std::vector<fs::path> test_files(const fs::path& dir, std::span<const std::string> subjects) {

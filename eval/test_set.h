@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "capture/category.h"
-#include "capture/dataset.h"
 #include "core/tracking.h"
+#include "dataset/category.h"
+#include "dataset/dataset.h"
 #include "gesture/features.h"
 
 namespace deixis::eval {
@@ -37,15 +37,15 @@ class TestSet {
   const std::string& source() const { return data_.source; }
   Hand hand() const { return hand_; }
   float height() const { return height_; }
-  const capture::Dataset& data() const { return data_; }
+  const dataset::Dataset& data() const { return data_; }
 
   std::size_t sequences() const { return data_.sequences(); }
   std::size_t length(std::size_t s) const { return data_.end(s) - data_.begin(s); }
-  capture::Category category(std::size_t s) const {
-    return static_cast<capture::Category>(data_.sequence_category[s]);
+  dataset::Category category(std::size_t s) const {
+    return static_cast<dataset::Category>(data_.sequence_category[s]);
   }
   // Sequence indices of one category, in file order.
-  std::vector<std::size_t> of_category(capture::Category c) const;
+  std::vector<std::size_t> of_category(dataset::Category c) const;
 
   // Rows of sequence s (local frame index k).
   std::span<const float, kMpnetFeatureCount> features(std::size_t s, std::size_t k) const;
@@ -66,7 +66,7 @@ class TestSet {
   std::string subject_;
   Hand hand_ = Hand::kRight;
   float height_ = kAvatarHeight;
-  capture::Dataset data_;
+  dataset::Dataset data_;
   std::vector<BodyCalibration> bodies_;
 };
 

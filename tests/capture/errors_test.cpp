@@ -2,13 +2,12 @@
 
 #include <gtest/gtest.h>
 
-#include "capture/category.h"
-#include "capture/dataset.h"
 #include "capture/generate.h"
 #include "capture/script.h"
 #include "capture/tracker_noise.h"
 #include "core/error.h"
 #include "core/io/safetensors.h"
+#include "dataset/dataset.h"
 #include "test_support.h"
 
 namespace deixis::capture {
@@ -53,7 +52,7 @@ TEST(CaptureErrors, BadSubjectParametersNameTheSubjectAndField) {
 }
 
 TEST(CaptureErrors, UnknownNamesListTheKnownOnes) {
-  std::string m = error_of([] { parse_category("pointing-twice"); });
+  std::string m = error_of([] { dataset::parse_category("pointing-twice"); });
   EXPECT_NE(m.find("unknown category 'pointing-twice'"), std::string::npos) << m;
   EXPECT_NE(m.find("touching-transition"), std::string::npos) << m;
   m = error_of([] { find_subject("999"); });
@@ -112,15 +111,15 @@ TEST(CaptureErrors, DatasetReaderRejectsOtherAndCorruptFiles) {
     }
     const fs::path bad = dir.path() / "bad.safetensors";
     w.write(bad);
-    return error_of([&] { Dataset::read(bad); });
+    return error_of([&] { dataset::Dataset::read(bad); });
   };
   EXPECT_NE(rewrite("", nullptr, "something-else").find("not a capture dataset"),
             std::string::npos);
-  EXPECT_NE(rewrite("mpnet_features", nullptr, kDatasetSchema).find("mpnet_features"),
+  EXPECT_NE(rewrite("mpnet_features", nullptr, dataset::kSchema).find("mpnet_features"),
             std::string::npos);
   std::vector<float> labels = original.read_f32("labels", original.shape_of("labels"));
   labels[3 * 10 + 2] = 1.5f;
-  const std::string m = rewrite("labels", &labels, kDatasetSchema);
+  const std::string m = rewrite("labels", &labels, dataset::kSchema);
   EXPECT_NE(m.find("tensor 'labels': value 1.5"), std::string::npos) << m;
   EXPECT_NE(m.find("frame 10"), std::string::npos) << m;
   EXPECT_NE(m.find("bad.safetensors"), std::string::npos) << m;

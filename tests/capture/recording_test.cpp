@@ -7,11 +7,11 @@
 #include <iterator>
 #include <sstream>
 
-#include "capture/csv.h"
-#include "capture/dataset.h"
 #include "capture/mirror.h"
 #include "capture/tracker_noise.h"
 #include "core/error.h"
+#include "dataset/csv.h"
+#include "dataset/dataset.h"
 #include "gesture/features.h"
 #include "sequences.h"
 #include "test_support.h"
@@ -20,6 +20,7 @@ namespace deixis::capture {
 namespace {
 
 namespace fs = std::filesystem;
+using dataset::Dataset;
 using testing::sample_sequences;
 
 std::vector<char> bytes_of(const fs::path& p) {

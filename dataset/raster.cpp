@@ -1,4 +1,4 @@
-#include "capture/raster.h"
+#include "dataset/raster.h"
 
 #include <stb_easy_font.h>
 #include <stb_image_write.h>
@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 
-namespace deixis::capture {
+namespace deixis::dataset {
 
 namespace {
 
@@ -154,4 +154,4 @@ void Canvas::write_png(const std::filesystem::path& path) const {
   }
 }
 
-}  // namespace deixis::capture
+}  // namespace deixis::dataset

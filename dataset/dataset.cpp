@@ -1,13 +1,10 @@
-#include "capture/dataset.h"
+#include "dataset/dataset.h"
 
-#include <cmath>
 #include <cstring>
 
 #include "core/error.h"
-#include "core/io/safetensors.h"
-#include "gesture/features.h"
 
-namespace deixis::capture {
+namespace deixis::dataset {
 
 namespace {
 
@@ -24,6 +21,16 @@ void push(std::vector<float>& out, const Vec3& v) {
 void push_quat(std::vector<float>& out, const Mat3& R) {
   const Quat q(R);
   out.insert(out.end(), {q.x(), q.y(), q.z(), q.w()});
+}
+
+Vec3 vec3_at(const std::vector<float>& v, std::size_t row) {
+  return {v[row * 3], v[row * 3 + 1], v[row * 3 + 2]};
+}
+// Quaternions are stored (x, y, z, w).
+Mat3 rotation_at(const std::vector<float>& v, std::size_t row) {
+  return Quat(v[row * 4 + 3], v[row * 4], v[row * 4 + 1], v[row * 4 + 2])
+      .normalized()
+      .toRotationMatrix();
 }
 
 template <class T>
@@ -46,10 +53,19 @@ void DatasetWriter::set_metadata(std::string key, std::string value) {
   metadata_[std::move(key)] = std::move(value);
 }
 
-void DatasetWriter::add(const Sequence& s, std::int32_t source) {
+void DatasetWriter::add(const SequenceRows& s) {
+  const std::size_t n = s.frames.size();
+  if (s.labels.size() != n || s.phase_keys.size() != n ||
+      s.mpnet_features.size() != n * kFeatureColumns ||
+      s.end_effectors.size() != n * kEndEffectorColumns) {
+    throw Error("dataset writer: sequence " + std::to_string(next_index()) + " has " +
+                std::to_string(n) + " frames but " + std::to_string(s.labels.size()) +
+                " label rows, " + std::to_string(s.phase_keys.size()) + " phase keys, " +
+                std::to_string(s.mpnet_features.size()) + " feature values and " +
+                std::to_string(s.end_effectors.size()) + " end-effector values");
+  }
   const auto index = next_index();
-  const BodyCalibration& body = s.calibration;
-  for (std::size_t i = 0; i < s.size(); ++i) {
+  for (std::size_t i = 0; i < n; ++i) {
     const TrackingFrame& f = s.frames[i];
     time_.push_back(static_cast<float>(f.time));
     push(head_position_, f.T_world_head.translation);
@@ -66,20 +82,21 @@ void DatasetWriter::add(const Sequence& s, std::int32_t source) {
     push(head_target_position_, f.head_target_position);
     push(hand_target_position_, f.hand_target_position);
     labels_.insert(labels_.end(), s.labels[i].begin(), s.labels[i].end());
-    // What the networks read, by the runtime's feature code. Dropped parts already hold their
-    // last valid values (tracker_noise.h), as the runtime holds them.
-    const MpnetFeatureRow row = mpnet_features(f, body);
+    const std::span<const float> row =
+        s.mpnet_features.subspan(i * kFeatureColumns, kFeatureColumns);
     features_.insert(features_.end(), row.begin(), row.end());
-    const EndEffectors x = end_effectors(f, body);
+    const std::span<const float> x =
+        s.end_effectors.subspan(i * kEndEffectorColumns, kEndEffectorColumns);
     end_effectors_.insert(end_effectors_.end(), x.begin(), x.end());
-    target_feature_.insert(target_feature_.end(), row.begin() + mf::kTarget, row.end());
+    target_feature_.insert(target_feature_.end(), row.begin() + kTargetFeatureColumn, row.end());
     phase_key_.push_back(s.phase_keys[i]);
     frame_category_.push_back(static_cast<std::int32_t>(s.category));
     frame_sequence_.push_back(index);
   }
+  const BodyCalibration& body = s.body;
   offsets_.push_back(static_cast<std::int64_t>(time_.size()));
   categories_.push_back(static_cast<std::int32_t>(s.category));
-  sources_.push_back(source);
+  sources_.push_back(s.source);
   seeds_.push_back(static_cast<std::int64_t>(s.seed));
   speeds_.push_back(s.speed);
   mirrored_.push_back(s.mirrored ? 1 : 0);
@@ -99,12 +116,12 @@ void DatasetWriter::add(const Sequence& s, std::int32_t source) {
   target_offsets_.push_back(static_cast<std::int64_t>(target_id_.size()));
 }
 
-void DatasetWriter::write(const std::filesystem::path& path) const {
+SafetensorsWriter DatasetWriter::safetensors() const {
   const std::int64_t n = dim(time_.size());
   const std::int64_t s = dim(categories_.size());
   const std::int64_t t = dim(target_id_.size());
   SafetensorsWriter w;
-  w.set_metadata("schema", kDatasetSchema);
+  w.set_metadata("schema", kSchema);
   for (const auto& [key, value] : metadata_) {
     w.set_metadata(key, value);
   }
@@ -120,10 +137,10 @@ void DatasetWriter::write(const std::filesystem::path& path) const {
   w.add("hand_target_id", DType::kI32, {n}, as_bytes(hand_target_));
   w.add_f32("head_target_position", {n, 3}, head_target_position_);
   w.add_f32("hand_target_position", {n, 3}, hand_target_position_);
-  w.add_f32("labels", {n, 3}, labels_);
-  w.add_f32("mpnet_features", {n, kMpnetFeatureCount}, features_);
-  w.add_f32("end_effectors", {n, kEndEffectorSize}, end_effectors_);
-  w.add_f32("target_feature", {n, kTargetFeatureSize}, target_feature_);
+  w.add_f32("labels", {n, kLabelColumns}, labels_);
+  w.add_f32("mpnet_features", {n, kFeatureColumns}, features_);
+  w.add_f32("end_effectors", {n, kEndEffectorColumns}, end_effectors_);
+  w.add_f32("target_feature", {n, kTargetFeatureColumns}, target_feature_);
   w.add("phase_key", DType::kU8, {n}, as_bytes(phase_key_));
   w.add("category", DType::kI32, {n}, as_bytes(frame_category_));
   w.add("sequence", DType::kI32, {n}, as_bytes(frame_sequence_));
@@ -143,29 +160,55 @@ void DatasetWriter::write(const std::filesystem::path& path) const {
   w.add("target_kind", DType::kU8, {t}, as_bytes(target_kind_));
   w.add_f32("target_position", {t, 3}, target_position_);
   w.add_f32("target_size", {t, 3}, target_size_);
-  w.write(path);
+  return w;
+}
+
+std::vector<std::byte> DatasetWriter::serialize() const {
+  return safetensors().serialize();
+}
+
+void DatasetWriter::write(const std::filesystem::path& path) const {
+  safetensors().write(path);
 }
 
 Dataset Dataset::read(const std::filesystem::path& path) {
-  const SafetensorsFile file = SafetensorsFile::read(path);
+  return read(SafetensorsFile::read(path));
+}
+
+Dataset Dataset::read(const SafetensorsFile& file) {
   Dataset d;
   d.source = file.source();
   d.metadata = file.metadata();
   const auto fail = [&](const std::string& what) { throw Error(d.source + ": " + what); };
   const auto schema = d.metadata.find("schema");
-  if (schema == d.metadata.end() || schema->second != kDatasetSchema) {
-    fail(std::string("not a capture dataset (metadata 'schema' is not '") + kDatasetSchema + "')");
+  if (schema == d.metadata.end() || schema->second != kSchema) {
+    fail(std::string("not a capture dataset (metadata 'schema' is not '") + kSchema + "')");
   }
+  const auto hand = d.metadata.find("deictic_hand");
+  if (hand != d.metadata.end() && hand->second != "right" && hand->second != "left") {
+    fail("metadata 'deictic_hand' is '" + hand->second + "', expected right or left");
+  }
+  d.hand = hand != d.metadata.end() && hand->second == "left" ? Hand::kLeft : Hand::kRight;
+
+  // The frame count from `time`, the sequence count from `sequence_offsets`; every other tensor
+  // must agree with them.
   const std::vector<std::int64_t>& time_shape = file.shape_of("time");
   if (time_shape.size() != 1) {
     fail("tensor 'time': expected one dimension, found " + shape_string(time_shape));
   }
   const std::int64_t n = time_shape[0];
-  const std::vector<std::int64_t>& seq_shape = file.shape_of("sequence_category");
-  if (seq_shape.size() != 1) {
-    fail("tensor 'sequence_category': expected one dimension, found " + shape_string(seq_shape));
+  const std::vector<std::int64_t>& offsets_shape = file.shape_of("sequence_offsets");
+  if (offsets_shape.size() != 1 || offsets_shape[0] < 1) {
+    fail("tensor 'sequence_offsets': expected [sequences + 1], found " +
+         shape_string(offsets_shape));
   }
-  const std::int64_t s = seq_shape[0];
+  const std::int64_t s = offsets_shape[0] - 1;
+  const std::vector<std::int64_t>& targets_shape = file.shape_of("target_id");
+  if (targets_shape.size() != 1) {
+    fail("tensor 'target_id': expected one dimension, found " + shape_string(targets_shape));
+  }
+  const std::int64_t t = targets_shape[0];
+
   d.frames = static_cast<std::size_t>(n);
   d.time = file.read_f32("time", Shape{n});
   d.head_position = file.read_f32("head_position", Shape{n, 3});
@@ -176,10 +219,10 @@ Dataset Dataset::read(const std::filesystem::path& path) {
   d.index_tip = file.read_f32("index_tip", Shape{n, 2, 3});
   d.head_target_position = file.read_f32("head_target_position", Shape{n, 3});
   d.hand_target_position = file.read_f32("hand_target_position", Shape{n, 3});
-  d.labels = file.read_f32("labels", Shape{n, 3});
-  d.mpnet_features = file.read_f32("mpnet_features", Shape{n, kMpnetFeatureCount});
-  d.end_effectors = file.read_f32("end_effectors", Shape{n, kEndEffectorSize});
-  d.target_feature = file.read_f32("target_feature", Shape{n, kTargetFeatureSize});
+  d.labels = file.read_f32("labels", Shape{n, kLabelColumns});
+  d.mpnet_features = file.read_f32("mpnet_features", Shape{n, kFeatureColumns});
+  d.end_effectors = file.read_f32("end_effectors", Shape{n, kEndEffectorColumns});
+  d.target_feature = file.read_f32("target_feature", Shape{n, kTargetFeatureColumns});
   d.valid = read_ints<std::uint8_t>(file, "valid", DType::kU8, Shape{n});
   d.phase_key = read_ints<std::uint8_t>(file, "phase_key", DType::kU8, Shape{n});
   d.head_target_id = read_ints<std::int32_t>(file, "head_target_id", DType::kI32, Shape{n});
@@ -189,17 +232,33 @@ Dataset Dataset::read(const std::filesystem::path& path) {
   d.sequence_offsets = read_ints<std::int64_t>(file, "sequence_offsets", DType::kI64, Shape{s + 1});
   d.sequence_category = read_ints<std::int32_t>(file, "sequence_category", DType::kI32, Shape{s});
   d.sequence_source = read_ints<std::int32_t>(file, "sequence_source", DType::kI32, Shape{s});
+  d.sequence_seed = read_ints<std::int64_t>(file, "sequence_seed", DType::kI64, Shape{s});
   d.sequence_speed = file.read_f32("sequence_speed", Shape{s});
   d.sequence_mirrored = read_ints<std::uint8_t>(file, "sequence_mirrored", DType::kU8, Shape{s});
   d.deictic_hand = read_ints<std::uint8_t>(file, "deictic_hand", DType::kU8, Shape{s});
+  d.root_position = file.read_f32("root_position", Shape{s, 3});
+  d.root_rotation = file.read_f32("root_rotation", Shape{s, 4});
+  d.rest_wrist_in_root = file.read_f32("rest_wrist_in_root", Shape{s, 2, 3});
+  d.body = file.read_f32("body", Shape{s, 2});
+  d.target_offsets = read_ints<std::int64_t>(file, "target_offsets", DType::kI64, Shape{s + 1});
+  d.target_id = read_ints<std::int32_t>(file, "target_id", DType::kI32, Shape{t});
+  d.target_kind = read_ints<std::uint8_t>(file, "target_kind", DType::kU8, Shape{t});
+  d.target_position = file.read_f32("target_position", Shape{t, 3});
+  d.target_size = file.read_f32("target_size", Shape{t, 3});
 
-  // Offsets tile [0, n] in order; per-frame ids agree with them.
+  // Offsets tile [0, n] and [0, t] in order; per-frame ids agree with them.
   if (d.sequence_offsets.front() != 0 || d.sequence_offsets.back() != n) {
     fail("tensor 'sequence_offsets': must run from 0 to the frame count " + std::to_string(n));
+  }
+  if (d.target_offsets.front() != 0 || d.target_offsets.back() != t) {
+    fail("tensor 'target_offsets': must run from 0 to the target count " + std::to_string(t));
   }
   for (std::size_t k = 0; k < d.sequences(); ++k) {
     if (d.sequence_offsets[k + 1] <= d.sequence_offsets[k]) {
       fail("tensor 'sequence_offsets': sequence " + std::to_string(k) + " is empty or reversed");
+    }
+    if (d.target_offsets[k + 1] < d.target_offsets[k]) {
+      fail("tensor 'target_offsets': sequence " + std::to_string(k) + " is reversed");
     }
     if (d.sequence_category[k] < 0 || d.sequence_category[k] >= kCategoryCount) {
       fail("tensor 'sequence_category': sequence " + std::to_string(k) + " has category " +
@@ -220,13 +279,51 @@ Dataset Dataset::read(const std::filesystem::path& path) {
       }
     }
   }
+  for (std::size_t i = 0; i < d.target_kind.size(); ++i) {
+    if (d.target_kind[i] > static_cast<std::uint8_t>(TargetKind::kScreen)) {
+      fail("tensor 'target_kind': target " + std::to_string(i) + " has kind " +
+           std::to_string(d.target_kind[i]) + ", not 0, 1 or 2");
+    }
+  }
   for (std::size_t i = 0; i < d.labels.size(); ++i) {
     if (d.labels[i] < 0.0f || d.labels[i] > 1.0f) {
       fail("tensor 'labels': value " + std::to_string(d.labels[i]) + " at frame " +
-           std::to_string(i / 3) + " is outside [0, 1]");
+           std::to_string(i / kLabelColumns) + " is outside [0, 1]");
     }
   }
   return d;
 }
 
-}  // namespace deixis::capture
+TrackingFrame Dataset::tracking(std::size_t row) const {
+  TrackingFrame f;
+  f.time = static_cast<double>(time[row]);
+  f.T_world_head.translation = vec3_at(head_position, row);
+  f.T_world_head.rotation = rotation_at(head_rotation, row);
+  f.gaze = vec3_at(gaze, row);
+  for (std::size_t h = 0; h < 2; ++h) {
+    f.T_world_wrist[h].translation = vec3_at(wrist_position, row * 2 + h);
+    f.T_world_wrist[h].rotation = rotation_at(wrist_rotation, row * 2 + h);
+    f.index_tip[h] = vec3_at(index_tip, row * 2 + h);
+  }
+  f.valid = valid[row];
+  f.head_target = head_target_id[row];
+  f.hand_target = hand_target_id[row];
+  f.head_target_position = vec3_at(head_target_position, row);
+  f.hand_target_position = vec3_at(hand_target_position, row);
+  return f;
+}
+
+BodyCalibration Dataset::calibration(std::size_t s) const {
+  BodyCalibration b;
+  b.height = body[s * 2];
+  b.arm_length = body[s * 2 + 1];
+  b.deictic_hand = deictic_hand[s] == 0 ? Hand::kLeft : Hand::kRight;
+  b.T_world_root.rotation = rotation_at(root_rotation, s);
+  b.T_world_root.translation = vec3_at(root_position, s);
+  for (std::size_t h = 0; h < 2; ++h) {
+    b.rest_wrist_in_root[h] = vec3_at(rest_wrist_in_root, s * 2 + h);
+  }
+  return b;
+}
+
+}  // namespace deixis::dataset

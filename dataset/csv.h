@@ -6,11 +6,11 @@
 #include <optional>
 #include <ostream>
 
-#include "capture/dataset.h"
+#include "dataset/dataset.h"
 
-namespace deixis::capture {
+namespace deixis::dataset {
 
 // All sequences, or only `sequence` (an index into the file; out of range: deixis::Error).
 void write_csv(const Dataset& dataset, std::optional<std::size_t> sequence, std::ostream& out);
 
-}  // namespace deixis::capture
+}  // namespace deixis::dataset

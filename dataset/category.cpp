@@ -1,10 +1,10 @@
-#include "capture/category.h"
+#include "dataset/category.h"
 
 #include <string>
 
 #include "core/error.h"
 
-namespace deixis::capture {
+namespace deixis::dataset {
 
 namespace {
 
@@ -59,9 +59,13 @@ bool has_free_form(Category c) {
          c == Category::kTouchingExplanation || c == Category::kTouchingTransition;
 }
 
-bool is_speed_augmented(Category c) {
+bool is_deictic_gesture(Category c) {
   return c == Category::kPointingSingle || c == Category::kPointingTwoTargets ||
          c == Category::kTouchingSingle || c == Category::kTouchingTwoTargets;
 }
 
-}  // namespace deixis::capture
+bool is_speed_augmented(Category c) {
+  return is_deictic_gesture(c);  // the single- and two-target categories (docs/dataset.md#files)
+}
+
+}  // namespace deixis::dataset

@@ -9,14 +9,16 @@
 
 #include <array>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
-#include "capture/category.h"
-#include "capture/sequence.h"
+#include "core/tracking.h"
+#include "dataset/category.h"
+#include "dataset/schema.h"
 #include "gesture/nn/mpnet.h"
 
-namespace deixis::capture {
+namespace deixis::eval {
 
 struct MpeSum {
   std::array<double, 3> error{};  // summed |p − p̂| per channel (gaze, deictic, idle)
@@ -30,8 +32,8 @@ struct MpeSum {
 struct SubjectVerdict {
   std::string subject;
   bool left_handed = false;
-  std::string checkpoint;                         // the one of the authors' protocol
-  std::array<MpeSum, kCategoryCount> categories;  // by Category
+  std::string checkpoint;                                  // the one of the authors' protocol
+  std::array<MpeSum, dataset::kCategoryCount> categories;  // by dataset::Category
   MpeSum all;
 };
 
@@ -48,10 +50,11 @@ std::vector<SubjectVerdict> judge(const JudgeOptions& options);
 // MPNet's progression for every row of one sequence (rows: n × 11, as stored), as the judge
 // computes them. Rows are in the person's own view (gesture/features.h), which is what the
 // checkpoint of their hand expects.
-std::vector<Labels> predict_progressions(const nn::Mpnet& net, std::span<const float> rows);
+std::vector<dataset::Labels> predict_progressions(const nn::Mpnet& net,
+                                                  std::span<const float> rows);
 
 // The checkpoint of the authors' protocol for a hand: <reference>/weights/{right,left}/<name>.
 std::filesystem::path authors_checkpoint(const std::filesystem::path& reference_dir, Hand hand,
                                          const std::string& name = "MPNet(MoE)(AC)80.safetensors");
 
-}  // namespace deixis::capture
+}  // namespace deixis::eval

@@ -1,18 +1,19 @@
-#include "capture/judge.h"
+#include "eval/judge.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "capture/dataset.h"
-#include "core/error.h"
-#include "gesture/features.h"
+#include "dataset/dataset.h"
+#include "eval/test_set.h"
 #include "gesture/nn/mpnet.h"
 
-namespace deixis::capture {
+namespace deixis::eval {
 
 namespace {
 
 namespace fs = std::filesystem;
+using dataset::Dataset;
+using dataset::Labels;
 constexpr int kRows = nn::kWindowRows;
 constexpr int kCols = nn::kMpnetFeatures;
 
@@ -28,31 +29,6 @@ MpeSum sequence_mpe(const nn::Mpnet& net, const Dataset& d, std::size_t begin, s
     ++sum.frames;
   }
   return sum;
-}
-
-std::vector<fs::path> test_files(const JudgeOptions& options) {
-  std::vector<fs::path> files;
-  if (!options.subjects.empty()) {
-    for (const std::string& s : options.subjects) {
-      files.push_back(options.dataset_dir / ("test_" + s + ".safetensors"));
-    }
-    return files;
-  }
-  if (!fs::is_directory(options.dataset_dir)) {
-    throw Error(options.dataset_dir.string() + ": not a directory");
-  }
-  for (const auto& entry : fs::directory_iterator(options.dataset_dir)) {
-    const std::string name = entry.path().filename().string();
-    if (name.starts_with("test_") && name.ends_with(".safetensors")) {
-      files.push_back(entry.path());
-    }
-  }
-  std::sort(files.begin(), files.end());
-  if (files.empty()) {
-    throw Error(options.dataset_dir.string() +
-                ": no test_<subject>.safetensors files (run `deixis capture generate` first)");
-  }
-  return files;
 }
 
 }  // namespace
@@ -93,7 +69,7 @@ std::vector<SubjectVerdict> judge(const JudgeOptions& options) {
       authors_checkpoint(options.reference_dir, Hand::kLeft, options.checkpoint);
   const nn::Mpnet right = nn::Mpnet::load(right_path);
   std::vector<SubjectVerdict> verdicts;
-  for (const fs::path& file : test_files(options)) {
+  for (const fs::path& file : test_files(options.dataset_dir, options.subjects)) {
     const Dataset d = Dataset::read(file);
     SubjectVerdict v;
     v.subject = d.metadata.count("subject") ? d.metadata.at("subject") : file.stem().string();
@@ -110,4 +86,4 @@ std::vector<SubjectVerdict> judge(const JudgeOptions& options) {
   return verdicts;
 }
 
-}  // namespace deixis::capture
+}  // namespace deixis::eval

@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-namespace deixis::capture {
+namespace deixis::dataset {
 
 class Pchip {
  public:
@@ -26,4 +26,4 @@ class Pchip {
 // same span (the authors' np.linspace(0, 1, n) → np.linspace(0, 1, m)).
 std::vector<double> pchip_resample(std::span<const double> y, std::size_t count);
 
-}  // namespace deixis::capture
+}  // namespace deixis::dataset

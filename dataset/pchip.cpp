@@ -1,11 +1,11 @@
-#include "capture/pchip.h"
+#include "dataset/pchip.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
 
-namespace deixis::capture {
+namespace deixis::dataset {
 
 namespace {
 
@@ -95,4 +95,4 @@ std::vector<double> pchip_resample(std::span<const double> y, std::size_t count)
   return out;
 }
 
-}  // namespace deixis::capture
+}  // namespace deixis::dataset

@@ -1,4 +1,4 @@
-#include "capture/csv.h"
+#include "dataset/csv.h"
 
 #include <array>
 #include <cstdio>
@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 
-namespace deixis::capture {
+namespace deixis::dataset {
 
 namespace {
 
@@ -90,4 +90,4 @@ void write_csv(const Dataset& d, std::optional<std::size_t> sequence, std::ostre
   }
 }
 
-}  // namespace deixis::capture
+}  // namespace deixis::dataset

@@ -1,13 +1,14 @@
 #pragma once
-// A tiny software rasteriser for the capture's previews: anti-aliased lines and circles, filled
-// rectangles, stb_easy_font text, PNG output through stb_image_write (Debian's libstb-dev).
+// A tiny software rasteriser for plots (the capture's previews, the evaluation's Fig. 5):
+// anti-aliased lines and circles, filled rectangles, stb_easy_font text, PNG output through
+// stb_image_write (Debian's libstb-dev).
 
 #include <cstdint>
 #include <filesystem>
 #include <string_view>
 #include <vector>
 
-namespace deixis::capture {
+namespace deixis::dataset {
 
 struct Rgb {
   std::uint8_t r = 0, g = 0, b = 0;
@@ -45,4 +46,4 @@ class Canvas {
   std::vector<std::uint8_t> pixels_;  // RGB, row-major
 };
 
-}  // namespace deixis::capture
+}  // namespace deixis::dataset
