@@ -88,6 +88,149 @@ ChestCylinder make_cylinder(const AvatarSolver& s, int chest) {
   return c;
 }
 
+// H, the eye midpoint, where the head joint's model pose puts it.
+Vec3 eye_midpoint(const AvatarSolver& s, std::span<const Pose> model) {
+  return transform_point(model[s.rig[Bone::kHead]], s.rig.eye_midpoint_in_head);
+}
+
+// Turns the aim chain from its joint `first` up to the head towards `head_target` (SpineAimJob).
+void aim_head(const AvatarSolver& s, const Mat3& head_target, int first, std::span<Pose> local,
+              std::span<Pose> model, bool& reached) {
+  SpineAimJob job;
+  job.skeleton = &s.rig.skeleton;
+  const auto count = static_cast<std::size_t>(s.aim_count - first);
+  job.chain = std::span<const int>(s.aim_chain.data() + first, count);
+  job.weights = std::span<const float>(s.aim_shares.data() + first, count);
+  job.max_angles = std::span<const float>(s.aim_limits.data() + first, count);
+  job.target = head_target;
+  job.local = local;
+  job.model = model;
+  job.reached = &reached;
+  job.run();
+}
+
+// Bends spine, chest and neck so that the head joint goes to `head_joint_target` (LeanJob).
+void lean_head(const AvatarSolver& s, const Vec3& head_joint_target, std::span<Pose> local,
+               std::span<Pose> model) {
+  LeanJob lean;
+  lean.skeleton = &s.rig.skeleton;
+  const auto count = static_cast<std::size_t>(s.lean_count);
+  lean.chain = std::span<const int>(s.lean_chain.data(), count);
+  lean.weights = std::span<const float>(s.lean_shares.data(), count);
+  lean.max_angles = std::span<const float>(s.lean_limits.data(), count);
+  lean.end_joint = s.rig[Bone::kHead];
+  lean.target = head_joint_target;
+  lean.local = local;
+  lean.model = model;
+  lean.run();
+}
+
+// Steps 2–3: the head's orientation and position, H's target pose T_model_H in the model frame.
+// At rest the frame H has the model's axes, so the head joint's wanted rotation is
+// R_model_H · R_model_head(rest).
+void solve_head(const AvatarSolver& s, const Pose& T_model_H, std::span<Pose> local,
+                std::span<Pose> model, bool& reached) {
+  const Skeleton& skeleton = s.rig.skeleton;
+  const int head = s.rig[Bone::kHead];
+  const Mat3 head_target = T_model_H.rotation * s.rest_model[head].rotation;
+  aim_head(s, head_target, 0, local, model, reached);
+  // Leaning places the head joint where H lands once the head has its target orientation.
+  const Mat3 R_head_final =
+      head_target.allFinite() ? orthonormalized(head_target) : model[head].rotation;
+  const Vec3 head_joint_target = T_model_H.translation - R_head_final * s.rig.eye_midpoint_in_head;
+  lean_head(s, head_joint_target, local, model);
+  // The head's own turn does not move the head joint, so it restores the orientation without
+  // undoing the lean; only when its limit stops it do the joints below help again.
+  aim_head(s, head_target, s.aim_count - 1, local, model, reached);
+  if (!reached) {
+    aim_head(s, head_target, s.neck_offset, local, model, reached);
+  }
+  if (!reached) {
+    aim_head(s, head_target, 0, local, model, reached);
+  }
+  if (!reached) {
+    // The lean used up what the orientation needs: the orientation comes first.
+    for (int k = 0; k < s.aim_count; ++k) {
+      local[s.aim_chain[k]] = skeleton.rest_local[s.aim_chain[k]];
+    }
+    update_model_path(skeleton, local, model, s.aim_chain[0], head);
+    aim_head(s, head_target, 0, local, model, reached);
+  }
+}
+
+// The jobs after the head need their joints' ancestors current: the paths from the spine to the
+// arms and from the head to the eyes (cheaper than the whole skeleton on rigs with many fingers).
+void update_limb_paths(const AvatarSolver& s, std::span<const Pose> local, std::span<Pose> model) {
+  const Skeleton& skeleton = s.rig.skeleton;
+  for (const ArmRig& a : s.arms) {
+    update_model_path(skeleton, local, model, s.aim_chain[0], skeleton.parents[a.upper]);
+  }
+  for (int e = 0; e < s.eye_count; ++e) {
+    update_model_path(skeleton, local, model, s.rig[Bone::kHead], skeleton.parents[s.eyes[e]]);
+  }
+}
+
+// Step 4: the eyes along `gaze`, a direction in the model frame (EyeJob); a rig may have none.
+void solve_eyes(const AvatarSolver& s, const Vec3& gaze, std::span<Pose> local,
+                std::span<Pose> model, bool& reached) {
+  if (s.eye_count == 0) {
+    return;
+  }
+  EyeJob eyes;
+  eyes.skeleton = &s.rig.skeleton;
+  eyes.rest_model = s.rest_model;
+  eyes.head = s.rig[Bone::kHead];
+  eyes.eyes = std::span<const int>(s.eyes.data(), static_cast<std::size_t>(s.eye_count));
+  eyes.gaze = gaze;
+  eyes.range = s.config.limits.eyes;
+  eyes.local = local;
+  eyes.model = model;
+  eyes.reached = &reached;
+  eyes.run();
+}
+
+// Step 5: the deictic arm towards the world-frame end-effectors `ee` (DeicticArmJob).
+void solve_deictic_arm(const AvatarSolver& s, Hand hand, const Pose& T_root_world,
+                       const EndEffectorPoses& ee, std::span<Pose> local, std::span<Pose> model,
+                       DeicticArmResult& result) {
+  const ArmRig& arm_rig = s.arms[index(hand)];
+  DeicticArmJob job;
+  job.skeleton = &s.rig.skeleton;
+  job.arm = &arm_rig;
+  job.limits = &s.config.limits;
+  job.pole = arm_rig.pole;
+  job.soften = s.config.soften;
+  job.wrist_rotation = T_root_world.rotation * ee.T_world_wrist.rotation;
+  job.fingertip = brought_in(transform_point(T_root_world, ee.index_tip));
+  // Beyond reach, keep the ray from the avatar's own eyes (after the lean) through the fingertip.
+  job.sight_origin = eye_midpoint(s, model);
+  job.local = local;
+  job.model = model;
+  job.result = &result;
+  job.run();
+}
+
+// Step 6: the other arm, placed from the avatar's own H after leaning (OtherArmJob).
+void solve_other_arm(const AvatarSolver& s, Hand hand, const OtherHandTarget& target,
+                     std::span<Pose> local, std::span<Pose> model, OtherArmResult& result) {
+  const ArmRig& arm_rig = s.arms[index(hand)];
+  OtherArmJob job;
+  job.skeleton = &s.rig.skeleton;
+  job.arm = &arm_rig;
+  job.limits = &s.config.limits;
+  job.cylinder = &s.cylinder;
+  job.chest = s.cylinder_joint;
+  job.head_position = eye_midpoint(s, model);
+  job.target = target;
+  job.target.distance = std::min(job.target.distance, kFarAway);
+  job.pole = arm_rig.pole;
+  job.soften = s.config.soften;
+  job.local = local;
+  job.model = model;
+  job.result = &result;
+  job.run();
+}
+
 }  // namespace
 
 AvatarSolver AvatarSolver::build(const HumanoidRig& rig, const AvatarSolverConfig& config) {
@@ -186,132 +329,31 @@ bool AvatarSolveJob::run() const {
     return false;
   }
   const AvatarSolver& s = *solver;
-  const Skeleton& skeleton = s.rig.skeleton;
-  const int head = s.rig[Bone::kHead];
   const Pose T_root_world = inverse(T_world_root);
   const EndEffectorPoses& ee = targets->deictic;
   AvatarSolveReport out;
 
   // 1. Rest.
-  std::copy(skeleton.rest_local.begin(), skeleton.rest_local.end(), local.begin());
+  std::copy(s.rig.skeleton.rest_local.begin(), s.rig.skeleton.rest_local.end(), local.begin());
   std::copy(s.rest_model.begin(), s.rest_model.end(), model.begin());
 
-  // 2–3. Head orientation and position. At rest the frame H has the model's axes, so the head
-  // joint's wanted rotation is R_model_H · R_model_head(rest).
+  // 2–3. Head orientation and position, then the paths the eyes and arms hang from.
   Pose T_model_H = compose(T_root_world, ee.T_world_head);
   T_model_H.translation = brought_in(T_model_H.translation);
-  const Mat3 head_target = T_model_H.rotation * s.rest_model[head].rotation;
-  const auto aim = [&](int first) {
-    SpineAimJob job;
-    job.skeleton = &skeleton;
-    const auto count = static_cast<std::size_t>(s.aim_count - first);
-    job.chain = std::span<const int>(s.aim_chain.data() + first, count);
-    job.weights = std::span<const float>(s.aim_shares.data() + first, count);
-    job.max_angles = std::span<const float>(s.aim_limits.data() + first, count);
-    job.target = head_target;
-    job.local = local;
-    job.model = model;
-    job.reached = &out.head_reached;
-    job.run();
-  };
-  aim(0);
-  // Leaning places the head joint where H lands once the head has its target orientation.
-  const Mat3 R_head_final =
-      head_target.allFinite() ? orthonormalized(head_target) : model[head].rotation;
-  const Vec3 head_joint_target = T_model_H.translation - R_head_final * s.rig.eye_midpoint_in_head;
-  LeanJob lean;
-  lean.skeleton = &skeleton;
-  const auto lean_count = static_cast<std::size_t>(s.lean_count);
-  lean.chain = std::span<const int>(s.lean_chain.data(), lean_count);
-  lean.weights = std::span<const float>(s.lean_shares.data(), lean_count);
-  lean.max_angles = std::span<const float>(s.lean_limits.data(), lean_count);
-  lean.end_joint = head;
-  lean.target = head_joint_target;
-  lean.local = local;
-  lean.model = model;
-  lean.run();
-  // The head's own turn does not move the head joint, so it restores the orientation without
-  // undoing the lean; only when its limit stops it do the joints below help again.
-  aim(s.aim_count - 1);
-  if (!out.head_reached) {
-    aim(s.neck_offset);
-  }
-  if (!out.head_reached) {
-    aim(0);
-  }
-  if (!out.head_reached) {
-    // The lean used up what the orientation needs: the orientation comes first.
-    for (int k = 0; k < s.aim_count; ++k) {
-      local[s.aim_chain[k]] = skeleton.rest_local[s.aim_chain[k]];
-    }
-    update_model_path(skeleton, local, model, s.aim_chain[0], head);
-    aim(0);
-  }
-  // The jobs below need their joints' ancestors current: the paths from the spine to the arms
-  // and from the head to the eyes (cheaper than the whole skeleton on rigs with many fingers).
-  for (const ArmRig& a : s.arms) {
-    update_model_path(skeleton, local, model, s.aim_chain[0], skeleton.parents[a.upper]);
-  }
-  for (int e = 0; e < s.eye_count; ++e) {
-    update_model_path(skeleton, local, model, head, skeleton.parents[s.eyes[e]]);
-  }
+  solve_head(s, T_model_H, local, model, out.head_reached);
+  update_limb_paths(s, local, model);
   if (T_model_H.translation.allFinite()) {
-    out.head_position_error =
-        (transform_point(model[head], s.rig.eye_midpoint_in_head) - T_model_H.translation).norm();
+    out.head_position_error = (eye_midpoint(s, model) - T_model_H.translation).norm();
   }
 
-  // 4. Eyes.
-  if (s.eye_count > 0) {
-    EyeJob eyes;
-    eyes.skeleton = &skeleton;
-    eyes.rest_model = s.rest_model;
-    eyes.head = head;
-    eyes.eyes = std::span<const int>(s.eyes.data(), static_cast<std::size_t>(s.eye_count));
-    eyes.gaze = T_root_world.rotation * ee.gaze;
-    eyes.range = s.config.limits.eyes;
-    eyes.local = local;
-    eyes.model = model;
-    eyes.reached = &out.eyes_reached;
-    eyes.run();
-  }
-
-  // 5. The deictic arm.
+  // 4–6. Eyes, the deictic arm, the other arm.
+  solve_eyes(s, T_root_world.rotation * ee.gaze, local, model, out.eyes_reached);
   const Hand deictic = targets->deictic_hand;
-  DeicticArmJob arm;
-  arm.skeleton = &skeleton;
-  arm.arm = &s.arms[index(deictic)];
-  arm.limits = &s.config.limits;
-  arm.pole = s.arms[index(deictic)].pole;
-  arm.soften = s.config.soften;
-  arm.wrist_rotation = T_root_world.rotation * ee.T_world_wrist.rotation;
-  arm.fingertip = brought_in(transform_point(T_root_world, ee.index_tip));
-  // Beyond reach, keep the ray from the avatar's own eyes (after the lean) through the fingertip.
-  arm.sight_origin = transform_point(model[head], s.rig.eye_midpoint_in_head);
-  arm.local = local;
-  arm.model = model;
-  arm.result = &out.deictic;
-  arm.run();
-
-  // 6. The other arm, from the avatar's own H after leaning.
-  const ArmRig& other_arm = s.arms[index(other(deictic))];
-  OtherArmJob free_arm;
-  free_arm.skeleton = &skeleton;
-  free_arm.arm = &other_arm;
-  free_arm.limits = &s.config.limits;
-  free_arm.cylinder = &s.cylinder;
-  free_arm.chest = s.cylinder_joint;
-  free_arm.head_position = transform_point(model[head], s.rig.eye_midpoint_in_head);
-  free_arm.target = targets->other;
-  free_arm.target.distance = std::min(free_arm.target.distance, kFarAway);
-  free_arm.pole = other_arm.pole;
-  free_arm.soften = s.config.soften;
-  free_arm.local = local;
-  free_arm.model = model;
-  free_arm.result = &out.other;
-  free_arm.run();
+  solve_deictic_arm(s, deictic, T_root_world, ee, local, model, out.deictic);
+  solve_other_arm(s, other(deictic), targets->other, local, model, out.other);
 
   // 7. Every joint's model pose (the jobs updated only their own paths).
-  local_to_model(skeleton, local, model);
+  local_to_model(s.rig.skeleton, local, model);
   if (report != nullptr) {
     *report = out;
   }

@@ -868,20 +868,24 @@ void Session::on_packet(Channel channel, std::span<const std::byte> bytes, doubl
   dispatch(channel, bytes, now);
 }
 
-namespace {
-
-// Decodes `packet` as M and hands it on; the decoder's verdict otherwise.
-template <typename M, typename Handle>
-WireResult decode_then(std::span<const std::byte> packet, Handle&& handle) {
-  M m;
-  WireResult result = decode(packet, m);
-  if (result.ok()) {
-    handle(std::move(m));
+template <class Message, class Handle>
+void Session::accept(Channel channel, std::span<const std::byte> packet, bool allowed, double now,
+                     Handle&& handle) {
+  if (!allowed) {
+    drop(channel, packet, wire_error(DropReason::kUnexpected, "state"), now);
+    return;
   }
-  return result;
+  Message m;
+  if (const WireResult result = decode(packet, m); !result.ok()) {
+    drop(channel, packet, result, now);
+    // A peer speaking another protocol version gets told so, rather than waiting out a time-out.
+    if (result.reason == DropReason::kWrongVersion && status_.state == SessionState::kHandshake) {
+      refuse(ByeReason::kVersionMismatch, now);
+    }
+    return;
+  }
+  handle(std::move(m));
 }
-
-}  // namespace
 
 void Session::dispatch(Channel channel, std::span<const std::byte> packet, double now) {
   const auto type = std::to_integer<std::uint8_t>(packet[0]);
@@ -895,72 +899,42 @@ void Session::dispatch(Channel channel, std::span<const std::byte> packet, doubl
   }
   const bool handshake = status_.state == SessionState::kHandshake;
   const bool joiner = !is_host();
-  // Whether this state takes this message (docs/protocol.md §6, "What each state accepts").
-  bool allowed = false;
-  switch (static_cast<MessageType>(type)) {
-    case MessageType::kWelcome:
-      allowed = joiner && handshake && !welcome_seen_;
-      break;
-    case MessageType::kAccept:
-      allowed = joiner && handshake && join_sent_;
-      break;
-    case MessageType::kJoin:
-      allowed = false;  // a host's joins come from strangers (on_stranger_packet)
-      break;
-    case MessageType::kHello:
-    case MessageType::kTargetMap:
-    case MessageType::kHeartbeat:
-      allowed = serving();
-      break;
-    case MessageType::kBye:
-      allowed = connected();
-      break;
-    case MessageType::kTracking:
-      return on_tracking(channel, packet, now);
-    case MessageType::kSealed:
-      break;
-  }
-  if (!allowed) {
-    drop(channel, packet, wire_error(DropReason::kUnexpected, "state"), now);
-    return;
-  }
   const auto heard = [&] { status_.last_heard = now; };
-  WireResult result;
+  // Each kind with the states that accept it (docs/protocol.md §6, "What each state accepts").
   switch (static_cast<MessageType>(type)) {
     case MessageType::kWelcome:
-      result = decode_then<Welcome>(packet, [&](Welcome&& m) { heard(), on_welcome(m, now); });
-      break;
+      return accept<Welcome>(channel, packet, joiner && handshake && !welcome_seen_, now,
+                             [&](Welcome&& m) {
+                               heard();
+                               on_welcome(m, now);
+                             });
     case MessageType::kAccept:
-      result = decode_then<Accept>(packet, [&](Accept&& m) { heard(), on_accept(m, now); });
-      break;
+      return accept<Accept>(channel, packet, joiner && handshake && join_sent_, now,
+                            [&](Accept&& m) {
+                              heard();
+                              on_accept(m, now);
+                            });
+    case MessageType::kJoin:  // never: a host's joins come from strangers (on_stranger_packet)
+      return accept<Join>(channel, packet, false, now, [](Join&&) {});
     case MessageType::kHello:
-      result = decode_then<Hello>(packet, [&](Hello&& m) { heard(), on_hello(std::move(m), now); });
-      break;
+      return accept<Hello>(channel, packet, serving(), now, [&](Hello&& m) {
+        heard();
+        on_hello(std::move(m), now);
+      });
     case MessageType::kTargetMap:
-      result = decode_then<TargetMap>(packet, [&](TargetMap&& m) {
+      return accept<TargetMap>(channel, packet, serving(), now, [&](TargetMap&& m) {
         heard();
         remote_map_ = std::move(m);
         ++stats_.target_maps_received;
       });
-      break;
     case MessageType::kHeartbeat:
-      result = decode_then<Heartbeat>(packet, [&](Heartbeat&&) { heard(); });
-      break;
+      return accept<Heartbeat>(channel, packet, serving(), now, [&](Heartbeat&&) { heard(); });
     case MessageType::kBye:
-      result = decode_then<Bye>(packet, [&](Bye&& m) { on_bye(m, now); });
-      break;
-    case MessageType::kJoin:
-    case MessageType::kTracking:
-    case MessageType::kSealed:
-      break;
-  }
-  if (result.ok()) {
-    return;
-  }
-  drop(channel, packet, result, now);
-  // A peer speaking another protocol version gets told so, rather than waiting out a time-out.
-  if (result.reason == DropReason::kWrongVersion && handshake) {
-    refuse(ByeReason::kVersionMismatch, now);
+      return accept<Bye>(channel, packet, connected(), now, [&](Bye&& m) { on_bye(m, now); });
+    case MessageType::kTracking:  // streaming only, into a preallocated message (on_tracking)
+      return on_tracking(channel, packet, now);
+    case MessageType::kSealed:  // dropped above
+      return;
   }
 }
 

@@ -241,6 +241,11 @@ class Session {
   void on_disconnected(std::uint32_t code, double now);
   void on_packet(Channel channel, std::span<const std::byte> bytes, double now);
   void dispatch(Channel channel, std::span<const std::byte> packet, double now);
+  // One message kind through its bounded decoder to `handle`, if this state accepts it (else
+  // dropped as unexpected); a wrong protocol version in the handshake is refused with a reason.
+  template <class Message, class Handle>
+  void accept(Channel channel, std::span<const std::byte> packet, bool allowed, double now,
+              Handle&& handle);
   void drop(Channel channel, std::span<const std::byte> packet, WireResult why, double now);
   bool within_budget(std::size_t bytes, double now);
 
