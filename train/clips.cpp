@@ -7,40 +7,23 @@
 
 namespace deixis::train {
 
-std::string_view category_name(Category category) {
-  switch (category) {
-    case Category::kPointingSingle:
-      return "Pointing at single target";
-    case Category::kPointingTwoTargets:
-      return "Pointing at two targets";
-    case Category::kPointingGazeShift:
-      return "Pointing at single target with gaze shift";
-    case Category::kPointingExplanation:
-      return "Pointing at single target with explanation";
-    case Category::kPointingTransition:
-      return "Transition (Pointing)";
-    case Category::kTouchingSingle:
-      return "Touching single target";
-    case Category::kTouchingGazeShift:
-      return "Touching single target with gaze shift";
-    case Category::kTouchingExplanation:
-      return "Touching single target with explanation";
-    case Category::kTouchingTwoTargets:
-      return "Touching two targets";
-    case Category::kTouchingTransition:
-      return "Transition (Touching)";
+std::vector<Sequence> training_sequences(const dataset::Dataset& file) {
+  std::vector<Sequence> out;
+  out.reserve(file.sequences());
+  for (std::size_t s = 0; s < file.sequences(); ++s) {
+    Sequence seq;
+    seq.category = static_cast<Category>(file.sequence_category[s]);
+    seq.frames = static_cast<int>(file.end(s) - file.begin(s));
+    const auto slice = [&](const std::vector<float>& v, int columns) {
+      const auto first = v.begin() + static_cast<std::ptrdiff_t>(file.begin(s) * columns);
+      return std::vector<float>(first, first + static_cast<std::ptrdiff_t>(seq.frames * columns));
+    };
+    seq.features = slice(file.mpnet_features, kFeatureColumns);
+    seq.progression = slice(file.labels, kProgressionColumns);
+    seq.pose = slice(file.end_effectors, kPoseColumns);
+    out.push_back(std::move(seq));
   }
-  return "?";
-}
-
-bool has_free_form(Category category) {
-  return category == Category::kPointingExplanation || category == Category::kPointingTransition ||
-         category == Category::kTouchingExplanation || category == Category::kTouchingTransition;
-}
-
-bool is_deictic_gesture(Category category) {
-  return category == Category::kPointingSingle || category == Category::kPointingTwoTargets ||
-         category == Category::kTouchingSingle || category == Category::kTouchingTwoTargets;
+  return out;
 }
 
 std::span<const float> ExampleSet::example(std::size_t i) const {

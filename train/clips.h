@@ -17,34 +17,20 @@
 #include <string>
 #include <vector>
 
+#include "dataset/category.h"
+#include "dataset/dataset.h"
+
 namespace deixis::train {
 
-// The ten categories of paper §III.A.
-enum class Category {
-  kPointingSingle,
-  kPointingTwoTargets,
-  kPointingGazeShift,
-  kPointingExplanation,
-  kPointingTransition,
-  kTouchingSingle,
-  kTouchingGazeShift,
-  kTouchingExplanation,
-  kTouchingTwoTargets,
-  kTouchingTransition,
-};
-inline constexpr int kCategoryCount = 10;
+// The ten categories of paper §III.A, as the datasets store them (dataset/category.h).
+using dataset::Category;
+using dataset::kCategoryCount;
 
-std::string_view category_name(Category category);  // the authors' folder names
-// Categories whose targets get the free-form hold (data_parser.py: transitions, explanations).
-bool has_free_form(Category category);
-// The deictic-gesture (DG) categories: single and two targets, pointing and touching — the kind
-// of data AMNet was trained on (paper §V.B). docs/decisions.md.
-bool is_deictic_gesture(Category category);
-
-inline constexpr int kFeatureColumns = 11;      // MPNet input per frame
-inline constexpr int kTargetFeatureColumn = 6;  // first target-feature column of the 11
-inline constexpr int kProgressionColumns = 3;   // gaze, deictic, idle
-inline constexpr int kPoseColumns = 24;         // end-effectors x
+// The dataset's columns (dataset/schema.h).
+inline constexpr int kFeatureColumns = dataset::kFeatureColumns;            // MPNet input per frame
+inline constexpr int kTargetFeatureColumn = dataset::kTargetFeatureColumn;  // of the 11
+inline constexpr int kProgressionColumns = dataset::kLabelColumns;          // gaze, deictic, idle
+inline constexpr int kPoseColumns = dataset::kEndEffectorColumns;           // end-effectors x
 inline constexpr int kMpnetClipColumns = kFeatureColumns + kProgressionColumns;  // 14
 inline constexpr int kUgnetClipColumns = kPoseColumns + 5 + 3 + kPoseColumns;    // 56
 inline constexpr int kMotionColumns = 18;  // head 6D + position, hand 6D + position: x[3..20]
@@ -58,6 +44,10 @@ struct Sequence {
   std::vector<float> progression;  // frames × 3
   std::vector<float> pose;         // frames × 24
 };
+
+// The sequences of a dataset file (docs/dataset.md), in the view of the file's hand
+// (`file.hand`): its network columns and labels, in file order.
+std::vector<Sequence> training_sequences(const dataset::Dataset& file);
 
 // Rows × columns × count floats, example-major.
 struct ExampleSet {

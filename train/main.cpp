@@ -11,7 +11,8 @@
 #include <iostream>
 
 #include "core/error.h"
-#include "train/dataset.h"
+#include "dataset/dataset.h"
+#include "train/clips.h"
 #include "train/manifest.h"
 #include "train/trainer.h"
 
@@ -103,8 +104,8 @@ void add_common(CLI::App* cmd, Flags& f, const std::string& architectures) {
 std::vector<Sequence> load(const std::vector<std::string>& files, Variant variant, Hand hand) {
   std::vector<Sequence> sequences;
   for (const auto& file : files) {
-    Dataset d = read_dataset(file);
-    for (Sequence& s : d.sequences) {
+    const deixis::dataset::Dataset d = deixis::dataset::Dataset::read(file);
+    for (Sequence& s : training_sequences(d)) {
       if (variant == Variant::kDeicticOnly && !is_deictic_gesture(s.category)) {
         continue;
       }

@@ -5,17 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
-#include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "dataset/dataset.h"
 #include "synthetic_sequences.h"
 #include "test_support.h"
 #include "train/checkpoint.h"
 #include "train/clips.h"
-#include "train/dataset.h"
 #include "train/network_kind.h"
 #include "train/progress.h"
 #include "train/schedule.h"
@@ -23,129 +21,21 @@
 namespace deixis::train {
 namespace {
 
-// ---- dataset validation ----
+// ---- from a dataset file (dataset/ reads and validates it: tests/dataset) ----
 
-struct Corruption {
-  const char* name;
-  const char* field;  // must appear in the error
-  std::function<void(std::vector<Sequence>&, SafetensorsWriter&)> apply;
-};
-
-SafetensorsWriter with_tensor_replaced(const std::vector<Sequence>& sequences,
-                                       const std::string& name,
-                                       const std::function<void(SafetensorsWriter&)>& add) {
-  // Rebuild the file from a valid one, swapping one tensor.
-  const SafetensorsFile valid =
-      SafetensorsFile::from_bytes("valid", dataset_writer(sequences).serialize());
-  SafetensorsWriter writer;
-  for (const TensorInfo& t : valid.tensors()) {
-    if (t.name == name) {
-      add(writer);
-    } else {
-      writer.add(t.name, t.dtype, t.shape, valid.bytes(t));
-    }
-  }
-  return writer;
-}
-
-TEST(Dataset, RoundTrips) {
+TEST(TrainingSequences, AreTheNetworkColumnsOfEachSequenceOfAFile) {
   const std::vector<Sequence> sequences = test_data::synthetic_sequences(5, 50, 1);
-  const Dataset d = read_dataset(
-      SafetensorsFile::from_bytes("d.safetensors", dataset_writer(sequences).serialize()));
-  ASSERT_EQ(d.sequences.size(), 5u);
-  EXPECT_EQ(d.sequences[3].category, sequences[3].category);
-  EXPECT_EQ(d.sequences[4].pose, sequences[4].pose);
-  EXPECT_EQ(d.sequences[2].progression, sequences[2].progression);
-}
-
-TEST(Dataset, RejectsEveryCorruptionNamingFileAndField) {
-  const std::vector<Sequence> s = test_data::synthetic_sequences(3, 50, 2);
-  const std::int64_t frames = 150;
-  const std::vector<std::pair<const char*, SafetensorsWriter>> cases = {
-      {"end_effectors",
-       with_tensor_replaced(s, "end_effectors", [](SafetensorsWriter&) {})},  // missing
-      {"mpnet_features",
-       with_tensor_replaced(
-           s, "mpnet_features",
-           [&](SafetensorsWriter& w) {
-             w.add_f32("mpnet_features", {frames, 12}, std::vector<float>(frames * 12, 0.0f));
-           })},
-      {"labels",
-       with_tensor_replaced(
-           s, "labels",
-           [&](SafetensorsWriter& w) {
-             w.add_f32("labels", {frames - 1, 3}, std::vector<float>((frames - 1) * 3, 0.0f));
-           })},
-      {"labels", with_tensor_replaced(s, "labels",
-                                      [&](SafetensorsWriter& w) {
-                                        std::vector<float> v(frames * 3, 0.5f);
-                                        v[7] = 1.5f;
-                                        w.add_f32("labels", {frames, 3}, v);
-                                      })},
-      {"end_effectors", with_tensor_replaced(s, "end_effectors",
-                                             [&](SafetensorsWriter& w) {
-                                               std::vector<float> v(frames * 24, 0.0f);
-                                               v[100] = std::numeric_limits<float>::quiet_NaN();
-                                               w.add_f32("end_effectors", {frames, 24}, v);
-                                             })},
-      {"sequence_offsets",
-       with_tensor_replaced(s, "sequence_offsets",
-                            [](SafetensorsWriter& w) {
-                              const std::vector<std::int64_t> v = {0, 50, 100, 149};
-                              w.add_i64("sequence_offsets", {4}, v);
-                            })},
-      {"sequence_offsets",
-       with_tensor_replaced(s, "sequence_offsets",
-                            [](SafetensorsWriter& w) {
-                              const std::vector<std::int64_t> v = {0, 50, 50, 150};
-                              w.add_i64("sequence_offsets", {4}, v);
-                            })},
-      {"sequence_offsets", with_tensor_replaced(s, "sequence_offsets",
-                                                [](SafetensorsWriter& w) {
-                                                  const std::vector<float> v = {0, 50, 100, 150};
-                                                  w.add_f32("sequence_offsets", {4}, v);
-                                                })},
-      {"sequence_category", with_tensor_replaced(s, "sequence_category",
-                                                 [](SafetensorsWriter& w) {
-                                                   const std::vector<std::int32_t> v = {0, 10, 1};
-                                                   w.add("sequence_category", DType::kI32, {3},
-                                                         std::as_bytes(std::span(v)));
-                                                 })},
-      {"sequence_category", with_tensor_replaced(s, "sequence_category",
-                                                 [](SafetensorsWriter& w) {
-                                                   const std::vector<std::int32_t> v = {0, 1};
-                                                   w.add("sequence_category", DType::kI32, {2},
-                                                         std::as_bytes(std::span(v)));
-                                                 })},
-  };
-  for (const auto& [field, writer] : cases) {
-    try {
-      read_dataset(SafetensorsFile::from_bytes("subject170.safetensors", writer.serialize()));
-      ADD_FAILURE() << "accepted a dataset with a bad '" << field << "'";
-    } catch (const Error& e) {
-      const std::string message = e.what();
-      EXPECT_NE(message.find("subject170.safetensors"), std::string::npos) << message;
-      EXPECT_NE(message.find(field), std::string::npos) << message;
-    }
-  }
-}
-
-TEST(Dataset, RejectsATruncatedFileNamingIt) {
-  deixis::testing::ScratchDir dir;
-  std::vector<std::byte> bytes =
-      dataset_writer(test_data::synthetic_sequences(2, 50, 3)).serialize();
-  bytes.resize(bytes.size() - 100);
-  const auto path = dir.path() / "truncated.safetensors";
-  {
-    std::ofstream out(path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(bytes.data()),
-              static_cast<std::streamsize>(bytes.size()));
-  }
-  try {
-    read_dataset(path);
-    ADD_FAILURE() << "accepted a truncated file";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("truncated.safetensors"), std::string::npos) << e.what();
+  const dataset::Dataset d = dataset::Dataset::read(SafetensorsFile::from_bytes(
+      "d.safetensors", test_data::dataset_writer(sequences).serialize()));
+  EXPECT_EQ(d.hand, Hand::kRight);
+  const std::vector<Sequence> read = training_sequences(d);
+  ASSERT_EQ(read.size(), 5u);
+  for (std::size_t s = 0; s < read.size(); ++s) {
+    EXPECT_EQ(read[s].category, sequences[s].category);
+    EXPECT_EQ(read[s].frames, sequences[s].frames);
+    EXPECT_EQ(read[s].features, sequences[s].features);
+    EXPECT_EQ(read[s].progression, sequences[s].progression);
+    EXPECT_EQ(read[s].pose, sequences[s].pose);
   }
 }
 
@@ -213,15 +103,6 @@ TEST(Clips, MirrorIsItsOwnInverseAndNegatesTheta) {
   mirror(m);
   EXPECT_EQ(m.pose, s[0].pose);
   EXPECT_EQ(m.features, s[0].features);
-}
-
-TEST(Clips, DeicticOnlyCategories) {
-  int count = 0;
-  for (int c = 0; c < kCategoryCount; ++c) {
-    count += is_deictic_gesture(static_cast<Category>(c)) ? 1 : 0;
-  }
-  EXPECT_EQ(count, 4);
-  EXPECT_FALSE(is_deictic_gesture(Category::kPointingExplanation));
 }
 
 // ---- schedules ----

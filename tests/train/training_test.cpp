@@ -20,12 +20,12 @@
 
 #include "core/error.h"
 #include "core/io/machine.h"
+#include "core/io/safetensors.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
 #include "synthetic_sequences.h"
 #include "test_support.h"
 #include "train/checkpoint.h"
-#include "train/dataset.h"
 #include "train/trainer.h"
 
 extern char** environ;
@@ -330,8 +330,8 @@ class Executable : public ::testing::Test {
   void SetUp() override {
     data_ = dir_.path() / "train.safetensors";
     validation_ = dir_.path() / "validation.safetensors";
-    dataset_writer(test_data::synthetic_sequences(30, 60, 7)).write(data_);
-    dataset_writer(test_data::synthetic_sequences(8, 60, 8)).write(validation_);
+    test_data::dataset_writer(test_data::synthetic_sequences(30, 60, 7)).write(data_);
+    test_data::dataset_writer(test_data::synthetic_sequences(8, 60, 8)).write(validation_);
   }
   deixis::testing::ScratchDir dir_;
   fs::path data_, validation_;
@@ -470,10 +470,21 @@ TEST_F(Executable, ACheckpointOfAnotherRunIsRefused) {
 }
 
 TEST_F(Executable, ACorruptDatasetIsAnErrorNamingFileAndField) {
+  // The training file with MPNet's features one column too wide.
   const fs::path bad = dir_.path() / "bad.safetensors";
+  const SafetensorsFile valid = SafetensorsFile::read(data_);
   SafetensorsWriter writer;
-  const std::vector<float> features(60 * 12, 0.0f);
-  writer.add_f32("mpnet_features", {60, 12}, features);
+  for (const auto& [key, value] : valid.metadata()) {
+    writer.set_metadata(key, value);
+  }
+  for (const TensorInfo& t : valid.tensors()) {
+    if (t.name == "mpnet_features") {
+      const std::vector<float> features(static_cast<std::size_t>(t.shape[0]) * 12, 0.0f);
+      writer.add_f32(t.name, {t.shape[0], 12}, features);
+    } else {
+      writer.add(t.name, t.dtype, t.shape, valid.bytes(t));
+    }
+  }
   writer.write(bad);
   const Result r = run(command(bad, validation_, dir_.path() / "out"), dir_.path() / "bad.log");
   EXPECT_EQ(r.exit_code, 2);
