@@ -1,6 +1,7 @@
 #pragma once
-// The `deixis` subcommands. main.cpp parses flags (CLI11, one translation unit); each command's
-// work lives in its own file and returns the process exit code.
+// The `deixis` subcommands. main.cpp walks the command table whose flags command_table.cpp
+// defines (CLI11 stays in those two files); each command's work lives in its own file, takes the
+// plain option struct below and returns the process exit code.
 
 #include <cstdint>
 #include <filesystem>
@@ -74,7 +75,7 @@ int run_capture_judge(const CaptureJudgeOptions& options);
 
 // Every command that hosts binds 127.0.0.1 unless --bind says otherwise; beyond loopback it needs
 // a passphrase or --open (site/endpoint.h, docs/security.md). `passphrase` fields hold
-// the passphrase as main.cpp read it: --passphrase, --passphrase-file, --ask-passphrase or
+// the passphrase as app/defaults.h read it: --passphrase, --passphrase-file, --ask-passphrase or
 // DEIXIS_PASSPHRASE.
 
 // `deixis host` and `deixis join` (SiteRunOptions: site/scripted_site.h).
@@ -106,8 +107,14 @@ struct EvalOptions {
   bool quick = false;
   int threads = 0;  // units of work at a time; 0: one per core
   std::string command_line;
+  std::string program = "deixis";  // as started (argv[0]), in the command a message suggests
 };
 int run_eval(const EvalOptions& options);
+
+// Why `dir` cannot be `deixis eval`'s data (missing, not a directory, no
+// test_<subject>.safetensors in it), with the command that makes the test sets (`program`
+// capture generate --sets test -o DIR); empty when it can.
+std::string eval_data_problem(const std::filesystem::path& dir, const std::string& program);
 
 // `deixis xr`: the headset user's side through OpenXR (docs/xr.md). With `network` the site
 // hosts or joins another (`deixis host`/`join`/`xr`): the headset user's tracking goes out with

@@ -2,8 +2,11 @@
 // (eval/evaluation.h); this file resolves the weight sets, runs it and writes tables.md,
 // results.json and fig5.png. Exit codes: 0 done, 2 bad flags or files.
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 
 #include "app/commands.h"
@@ -51,6 +54,21 @@ std::vector<eval::WeightSet> weight_sets(const EvalOptions& o) {
   return sets;
 }
 
+// `text` as one shell word: as it is when it is plain, else in single quotes.
+std::string shell_word(const std::string& text) {
+  const bool plain = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("/._-+=:,@%", c) != nullptr;
+  });
+  if (plain) {
+    return text;
+  }
+  std::string quoted = "'";
+  for (const char c : text) {
+    quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  }
+  return quoted + "'";
+}
+
 void write_text(const fs::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
@@ -61,12 +79,41 @@ void write_text(const fs::path& path, const std::string& text) {
 
 }  // namespace
 
+// Decision 57: the test sets take seconds to make, but `deixis eval` does not make them; it
+// names the command that does.
+std::string eval_data_problem(const fs::path& dir, const std::string& program) {
+  std::error_code error;
+  std::string what;
+  if (!fs::exists(dir, error)) {
+    what = "no such directory";
+  } else if (!fs::is_directory(dir, error)) {
+    what = "not a directory";
+  } else {
+    for (const fs::directory_entry& entry : fs::directory_iterator(dir, error)) {
+      const std::string name = entry.path().filename().string();
+      if (name.starts_with("test_") && name.ends_with(".safetensors")) {
+        return {};
+      }
+    }
+    what = "no test_<subject>.safetensors in it";
+  }
+  return dir.string() + ": " + what +
+         ". The evaluation reads the held-out subjects' test sets, which the synthetic capture "
+         "writes (about 2 s):\n  " +
+         shell_word(program) + " capture generate --sets test -o " + shell_word(dir.string()) +
+         "\nor give --data a directory that has them (docs/eval.md)";
+}
+
 int run_eval(const EvalOptions& o) {
   try {
     eval::EvalOptions options;
     options.data_dir = o.data_dir;
     options.subjects = o.subjects;
     options.weights = weight_sets(o);
+    if (const std::string problem = eval_data_problem(o.data_dir, o.program); !problem.empty()) {
+      std::fprintf(stderr, "deixis eval: %s\n", problem.c_str());
+      return 2;
+    }
     options.encoder_dir = o.encoder_dir;
     options.quick = o.quick;
     options.threads = o.threads;

@@ -403,6 +403,38 @@ TEST(DeixisSites, HelpOfEveryCommandExits0) {
   }
 }
 
+TEST(DeixisCommands, AnUnknownCommandExits2NamingIt) {
+  // With or without --help, at the top or under a command that has subcommands: exit 2 naming the
+  // word and the commands there are, not the main help with exit 0.
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"frob", "--help"}, "deixis: unknown command \"frob\""},
+      {{"frob"}, "deixis: unknown command \"frob\""},
+      {{"--help", "frob"}, "deixis: unknown command \"frob\""},
+      {{"avatar", "frob", "--help"}, "deixis avatar: unknown command \"frob\""},
+      {{"capture", "frob"}, "deixis capture: unknown command \"frob\""},
+  };
+  for (const auto& [args, names] : cases) {
+    SCOPED_TRACE(args.front() + " … " + args.back());
+    Deixis d(args);
+    EXPECT_EQ(d.wait(), 2) << d.err();
+    EXPECT_NE(d.err().find(names), std::string::npos) << d.err();
+    EXPECT_EQ(d.out().find("Subcommands:"), std::string::npos) << d.out();
+  }
+  Deixis top({"frob"});
+  ASSERT_EQ(top.wait(), 2);
+  for (const char* command : {"parity", "avatar", "capture", "host", "join", "demo", "xr", "sim",
+                              "eval", "deixis --help"}) {
+    EXPECT_NE(top.err().find(command), std::string::npos) << command << ": " << top.err();
+  }
+  // Real commands' help is unchanged: exit 0.
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"--help"}, {"avatar", "--help"}, {"capture", "generate", "--help"}}) {
+    Deixis d(args);
+    EXPECT_EQ(d.wait(), 0) << args[0] << ": " << d.err();
+    EXPECT_NE(d.out().find("Usage:"), std::string::npos) << d.out();
+  }
+}
+
 TEST(DeixisDemo, AShortDemoWritesItsSummaryVideoAndContactSheet) {
   deixis::testing::ScratchDir dir;
   const auto start = Clock::now();

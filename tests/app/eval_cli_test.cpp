@@ -1,12 +1,16 @@
 // `deixis eval` as a user runs it (the built command, a real process): test sets made by
 // `deixis capture generate`, a quick evaluation that exits 0 and writes tables.md, results.json and
 // fig5.png with the tables on standard output; data of the training subject refused with exit 2
-// naming the file; bad flags exit 2 naming the flag.
+// naming the file; missing test sets refused with exit 2 naming the directory and the command
+// that makes them; bad flags exit 2 naming the flag.
 
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "app/deixis_child.h"
 #include "test_support.h"
@@ -54,6 +58,59 @@ TEST(EvalCli, TheTrainingSubjectsDataIsRefused) {
   EXPECT_EQ(eval.wait(), 2);
   EXPECT_NE(eval.err().find("test_161.safetensors"), std::string::npos) << eval.err();
   EXPECT_FALSE(fs::exists(dir.path() / "eval/results.json"));
+}
+
+// The fix an error suggests: the command line after "\n  " up to the next line break, split at
+// spaces (the scratch paths have none), without the program.
+std::vector<std::string> suggested_arguments(const std::string& err) {
+  const std::size_t start = err.find("\n  ");
+  if (start == std::string::npos) {
+    ADD_FAILURE() << "no command in: " << err;
+    return {};
+  }
+  std::istringstream line(err.substr(start + 3, err.find('\n', start + 3) - start - 3));
+  std::vector<std::string> words;
+  for (std::string word; line >> word;) {
+    words.push_back(word);
+  }
+  EXPECT_EQ(words.empty() ? "" : words.front(), DEIXIS_EXE);
+  return {words.begin() + (words.empty() ? 0 : 1), words.end()};
+}
+
+TEST(EvalCli, MissingTestSetsNameTheDirectoryAndTheCommandThatMakesThem) {
+  deixis::testing::ScratchDir dir;
+  const fs::path missing = dir.path() / "no-data";
+  const fs::path empty = dir.path() / "empty";
+  fs::create_directories(empty);
+  const std::string make = std::string(DEIXIS_EXE) + " capture generate --sets test -o ";
+  const std::vector<std::pair<fs::path, std::string>> cases = {
+      {missing, "no such directory"}, {empty, "no test_<subject>.safetensors in it"}};
+  for (const auto& [data, what] : cases) {
+    SCOPED_TRACE(data.string());
+    Deixis eval({"eval", "--quick", "--data", data.string(), "--out",
+                 (dir.path() / "eval").string(), "--weights", "authors=" + weights_dir()});
+    EXPECT_EQ(eval.wait(), 2);
+    EXPECT_NE(eval.err().find(data.string() + ": " + what), std::string::npos) << eval.err();
+    EXPECT_NE(eval.err().find(make + data.string()), std::string::npos) << eval.err();
+    EXPECT_FALSE(fs::exists(dir.path() / "eval/results.json"));
+  }
+  // Without --data: the default directory, out/data in the repository (only while it is not there).
+  const fs::path default_data = deixis::testing::source_dir() / "out/data";
+  if (!fs::exists(default_data)) {
+    Deixis eval({"eval", "--quick", "--out", (dir.path() / "eval").string(), "--weights",
+                 "authors=" + weights_dir()});
+    EXPECT_EQ(eval.wait(), 2);
+    EXPECT_NE(eval.err().find(make + default_data.lexically_normal().string()), std::string::npos)
+        << eval.err();
+  }
+  // The command named makes what was missing.
+  Deixis eval({"eval", "--data", missing.string(), "--weights", "authors=" + weights_dir()});
+  ASSERT_EQ(eval.wait(), 2);
+  Deixis capture(suggested_arguments(eval.err()));
+  ASSERT_EQ(capture.wait(), 0) << capture.err();
+  for (const char* subject : {"161", "172", "173", "174", "180"}) {
+    EXPECT_TRUE(fs::exists(missing / ("test_" + std::string(subject) + ".safetensors"))) << subject;
+  }
 }
 
 TEST(EvalCli, BadFlagsExitTwoNamingThem) {
