@@ -105,7 +105,7 @@ DeicticOutcome run_deictic_check(const std::string& subject_name, capture::Categ
   const fs::path weights = weights_root / (subject.handedness == Hand::kLeft ? "left" : "right");
   const nn::Mpnet mpnet = nn::Mpnet::load(weights / "MPNet(MoE)(AC)80.safetensors");
   const nn::Ugnet ugnet = nn::Ugnet::load(weights / "UGNet(MoE)(AC)120.safetensors");
-  const bool touching = capture::is_touching(category);
+  const bool touching = dataset::is_touching(category);
   DeicticOutcome outcome;
   for (int k = 0; k < count; ++k) {
     const capture::Sequence s =
