@@ -156,7 +156,6 @@ std::string ask_passphrase(const std::string& prompt, std::string& passphrase) {
            "); use the " + std::string(kPassphraseVariable) +
            " environment variable or --passphrase-file FILE";
   }
-  [[maybe_unused]] ssize_t n = write(fd, prompt.data(), prompt.size());
   termios saved{};
   const bool is_tty = tcgetattr(fd, &saved) == 0;
   using Handler = void (*)(int);
@@ -174,6 +173,9 @@ std::string ask_passphrase(const std::string& prompt, std::string& passphrase) {
     tty_echo_off = 1;
     tcsetattr(fd, TCSAFLUSH, &quiet);
   }
+  // The prompt only once echo is off: TCSAFLUSH discards what was typed before it, so an answer
+  // typed after a prompt shown earlier could be echoed and then lost.
+  [[maybe_unused]] ssize_t n = write(fd, prompt.data(), prompt.size());
   std::string line;
   char c = 0;
   bool ended = false;
