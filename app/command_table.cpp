@@ -30,7 +30,7 @@ CLI::Option* add_endpoint_option(CLI::App* cmd, const std::string& flag, std::st
   return cmd->add_option_function<std::string>(
       flag,
       [flag, &address, &port, then = std::move(then)](const std::string& endpoint) {
-        const std::string problem = parse_endpoint(endpoint, address, port);
+        const std::string problem = site::parse_endpoint(endpoint, address, port);
         if (!problem.empty()) {
           throw CLI::ValidationError(flag, endpoint + ": " + problem);
         }
@@ -48,7 +48,7 @@ void add_weights_dir_flag(CLI::App* cmd, fs::path& weights_dir) {
 }
 
 // The flags host and join share.
-void add_site_flags(CLI::App* cmd, SiteRunOptions& o) {
+void add_site_flags(CLI::App* cmd, site::SiteRunOptions& o) {
   cmd->add_option("--site", o.site, "Site configuration (JSON, docs/site-config.md)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -305,8 +305,8 @@ void add_capture(CLI::App& program, const Invocation&, std::vector<Runner>& runn
 
 // `deixis host` (docs/demo.md): site_command.cpp.
 void add_host(CLI::App& program, const Invocation&, std::vector<Runner>& runners) {
-  auto host = std::make_shared<WithPassphrase<SiteRunOptions>>();
-  SiteRunOptions& o = host->options;
+  auto host = std::make_shared<WithPassphrase<site::SiteRunOptions>>();
+  site::SiteRunOptions& o = host->options;
   o.weights_dir = default_weights_dir();
   o.out_dir = "out/host";
   CLI::App* cmd = program.add_subcommand(
@@ -326,7 +326,7 @@ void add_host(CLI::App& program, const Invocation&, std::vector<Runner>& runners
   add_passphrase_flags(cmd, host->pass, true);
   runners.push_back(
       {cmd, [host] {
-         SiteRunOptions& r = host->options;
+         site::SiteRunOptions& r = host->options;
          if (!prepare_session("host", host->pass.given(), true, r.address, r.passphrase)) {
            return 2;
          }
@@ -336,8 +336,8 @@ void add_host(CLI::App& program, const Invocation&, std::vector<Runner>& runners
 
 // `deixis join` (docs/demo.md): site_command.cpp.
 void add_join(CLI::App& program, const Invocation&, std::vector<Runner>& runners) {
-  auto join = std::make_shared<WithPassphrase<SiteRunOptions>>();
-  SiteRunOptions& o = join->options;
+  auto join = std::make_shared<WithPassphrase<site::SiteRunOptions>>();
+  site::SiteRunOptions& o = join->options;
   o.host = false;
   o.weights_dir = default_weights_dir();
   o.out_dir = "out/join";
@@ -352,7 +352,7 @@ void add_join(CLI::App& program, const Invocation&, std::vector<Runner>& runners
       ->required();
   runners.push_back(
       {cmd, [join] {
-         SiteRunOptions& r = join->options;
+         site::SiteRunOptions& r = join->options;
          if (!prepare_session("join", join->pass.given(), false, r.address, r.passphrase)) {
            return 2;
          }
@@ -443,10 +443,10 @@ void add_xr(CLI::App& program, const Invocation&, std::vector<Runner>& runners) 
                      }});
 }
 
-// `deixis sim` (docs/sim.md): sim_command.cpp.
+// `deixis sim` (docs/sim.md): sim/sim_run.cpp.
 void add_sim(CLI::App& program, const Invocation&, std::vector<Runner>& runners) {
-  auto sim = std::make_shared<WithPassphrase<SimOptions>>();
-  SimOptions& o = sim->options;
+  auto sim = std::make_shared<WithPassphrase<sim::SimOptions>>();
+  sim::SimOptions& o = sim->options;
   o.weights_dir = default_weights_dir();
   o.site_a = demo_site("a.json");
   o.site_b = demo_site("b.json");
@@ -505,12 +505,12 @@ void add_sim(CLI::App& program, const Invocation&, std::vector<Runner>& runners)
     fixed_step->excludes(network);
   }
   runners.push_back({cmd, [sim] {
-                       SimOptions& r = sim->options;
+                       sim::SimOptions& r = sim->options;
                        if (!prepare_session("sim", sim->pass.given(), r.network && r.host,
                                             r.address, r.passphrase)) {
                          return 2;
                        }
-                       return run_sim(r);
+                       return sim::run_sim(r);
                      }});
 }
 

@@ -78,8 +78,8 @@ int run_capture_judge(const CaptureJudgeOptions& options);
 // the passphrase as app/defaults.h read it: --passphrase, --passphrase-file, --ask-passphrase or
 // DEIXIS_PASSPHRASE.
 
-// `deixis host` and `deixis join` (SiteRunOptions: site/scripted_site.h).
-int run_site(const SiteRunOptions& options);
+// `deixis host` and `deixis join` (site::SiteRunOptions: site/scripted_site.h).
+int run_site(const site::SiteRunOptions& options);
 
 // `deixis demo`: a host (site A) and a joiner (site B) as two real processes on loopback, then
 // the side-by-side video, a contact sheet and summary.json in `out_dir`.
@@ -139,7 +139,5 @@ struct XrRunOptions {
   float height = 0.0f;         // m; 0: from the eye height at calibration
 };
 int run_xr(const XrRunOptions& options);
-
-int run_sim(const SimOptions& options);
 
 }  // namespace deixis::app

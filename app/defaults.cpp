@@ -26,20 +26,20 @@ bool read_passphrase(const char* command, const PassphraseInput& input, std::str
                    "deixis %s: warning: a passphrase given with --passphrase can be read by other "
                    "users of this machine (ps, /proc); prefer %s, --passphrase-file or "
                    "--ask-passphrase\n",
-                   command, kPassphraseVariable);
+                   command, site::kPassphraseVariable);
     }
     return true;
   }
   std::string problem;
   if (!input.file.empty()) {
     std::string warning;
-    problem = read_passphrase_file(input.file, passphrase, warning);
+    problem = site::read_passphrase_file(input.file, passphrase, warning);
     if (problem.empty() && !warning.empty()) {
       std::fprintf(stderr, "deixis %s: %s\n", command, warning.c_str());
     }
   } else if (input.ask) {
-    problem = ask_passphrase("deixis " + std::string(command) + ": passphrase: ", passphrase);
-  } else if (const char* env = std::getenv(kPassphraseVariable)) {
+    problem = site::ask_passphrase("deixis " + std::string(command) + ": passphrase: ", passphrase);
+  } else if (const char* env = std::getenv(site::kPassphraseVariable)) {
     passphrase = env;
   }
   if (!problem.empty()) {
@@ -51,17 +51,17 @@ bool read_passphrase(const char* command, const PassphraseInput& input, std::str
 
 // A host's start: beyond loopback without a passphrase it needs --open (else false after saying
 // what to do); an open session is announced with a warning. Sets the process-wide permission
-// that SiteSession checks again below the command line.
+// that site::SiteSession checks again below the command line.
 bool may_host(const char* command, const PassphraseInput& input, const std::string& address,
               const std::string& passphrase) {
-  allow_open_sessions(input.open);
-  const std::string problem = host_exposure_problem(address, !passphrase.empty());
+  site::allow_open_sessions(input.open);
+  const std::string problem = site::host_exposure_problem(address, !passphrase.empty());
   if (!problem.empty()) {
     std::fprintf(stderr, "deixis %s: %s\n", command, problem.c_str());
     return false;
   }
   if (input.open && passphrase.empty()) {
-    std::fprintf(stderr, "deixis %s: %s\n", command, open_session_warning(address).c_str());
+    std::fprintf(stderr, "deixis %s: %s\n", command, site::open_session_warning(address).c_str());
   }
   return true;
 }

@@ -49,8 +49,9 @@ struct PassphraseInput {
 
 // Before a session starts: the passphrase `input` gives (empty: none) into `passphrase`, and when
 // `hosting`, the rule for a host on `address` (beyond loopback without a passphrase it needs
-// --open; an open session is announced with a warning; the process-wide permission SiteSession
-// checks again is set). False after saying why on stderr, naming `command`: the command exits 2.
+// --open; an open session is announced with a warning; the process-wide permission
+// site::SiteSession checks again is set). False after saying why on stderr, naming `command`: the
+// command exits 2.
 bool prepare_session(const char* command, const PassphraseInput& input, bool hosting,
                      const std::string& address, std::string& passphrase);
 

@@ -83,10 +83,11 @@ void wait_for_sites(ChildProcess& host, ChildProcess& join, double timeout) {
 // The sites read the passphrase from DEIXIS_PASSPHRASE, which they inherit: on their command
 // lines other users of the machine could read it (ps). Without one, none is inherited either.
 void pass_passphrase(const DemoOptions& o) {
-  const int failed = o.passphrase.empty() ? unsetenv(kPassphraseVariable)
-                                          : setenv(kPassphraseVariable, o.passphrase.c_str(), 1);
+  const int failed = o.passphrase.empty()
+                         ? unsetenv(site::kPassphraseVariable)
+                         : setenv(site::kPassphraseVariable, o.passphrase.c_str(), 1);
   if (failed != 0) {
-    throw Error(std::string("cannot set ") + kPassphraseVariable + " for the sites");
+    throw Error(std::string("cannot set ") + site::kPassphraseVariable + " for the sites");
   }
 }
 

@@ -29,7 +29,7 @@ constexpr deixis::app::AddCommand kCommands[] = {
     deixis::app::add_join,     // site_command.cpp
     deixis::app::add_demo,     // demo_command.cpp
     deixis::app::add_xr,       // xr_command.cpp
-    deixis::app::add_sim,      // sim_command.cpp
+    deixis::app::add_sim,      // sim/sim_run.cpp
     deixis::app::add_eval,     // eval_command.cpp
 };
 

@@ -26,18 +26,18 @@ namespace fs = std::filesystem;
 // The site's virtual user performs its script in this room, with the remote person's avatar
 // (target 0) where this room shows it; repeated to cover `seconds` (0: once). The site has one
 // (run_site checks).
-ScriptedUser perform_virtual_user(const SiteRunOptions& o, const SiteAssets& a) {
+site::ScriptedUser perform_virtual_user(const site::SiteRunOptions& o, const site::SiteAssets& a) {
   const capture::VirtualUserScene scene{a.site.user.T_world_floor(), a.site.target_map.objects,
                                         a.T_world_remote_origin.translation};
   capture::ScriptPerformance performance;
   try {
-    const VirtualUser& user = *a.site.virtual_user;
+    const site::VirtualUser& user = *a.site.virtual_user;
     performance = capture::perform_script(capture::find_subject(user.subject), user.script, scene,
                                           user.seed, o.seconds);
   } catch (const Error& e) {
     throw Error(o.site.string() + ": " + e.what());
   }
-  ScriptedUser scripted;
+  site::ScriptedUser scripted;
   scripted.body = performance.sequence.calibration;
   scripted.frames = std::move(performance.sequence.frames);
   scripted.deictic.reserve(performance.sequence.labels.size());
@@ -48,7 +48,7 @@ ScriptedUser perform_virtual_user(const SiteRunOptions& o, const SiteAssets& a) 
   return scripted;
 }
 
-void use_site_logger(const SiteRunOptions& o, const std::string& site) {
+void use_site_logger(const site::SiteRunOptions& o, const std::string& site) {
   auto logger = spdlog::stderr_color_mt("deixis");
   spdlog::set_default_logger(logger);
   spdlog::set_pattern(std::string("[%H:%M:%S.%e] [") + (o.host ? "host " : "join ") + site +
@@ -57,17 +57,17 @@ void use_site_logger(const SiteRunOptions& o, const std::string& site) {
 
 }  // namespace
 
-int run_site(const SiteRunOptions& options) {
-  std::optional<SiteAssets> assets;
-  ScriptedUser user;
+int run_site(const site::SiteRunOptions& options) {
+  std::optional<site::SiteAssets> assets;
+  site::ScriptedUser user;
   try {
-    SiteConfig site = read_site_config(options.site);
+    site::SiteConfig site = site::read_site_config(options.site);
     if (!site.virtual_user) {
       throw Error(options.site.string() +
                   ": virtual_user: missing (host and join need a scripted user; a headset front "
                   "end is not part of this build)");
     }
-    assets.emplace(load_site_assets(std::move(site), options.weights_dir));
+    assets.emplace(site::load_site_assets(std::move(site), options.weights_dir));
     user = perform_virtual_user(options, *assets);
     use_site_logger(options, assets->site.site);
     std::error_code ec;
@@ -80,7 +80,7 @@ int run_site(const SiteRunOptions& options) {
     return 2;
   }
   try {
-    run_scripted_site(options, *assets, user);
+    site::run_scripted_site(options, *assets, user);
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "deixis %s: %s\n", options.host ? "host" : "join", e.what());

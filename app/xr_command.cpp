@@ -41,11 +41,12 @@ namespace fs = std::filesystem;
 
 constexpr double kTick = 1.0 / 30.0;  // s: translation rate (docs/conventions.md#rates-and-windows)
 
-using Networks = MoeNetworks;
+using Networks = site::MoeNetworks;
 
 // The remote person: the other site's virtual user performed in their room.
-capture::ScriptPerformance perform_remote(const SiteConfig& remote, const ik::AvatarSolver& solver,
-                                          const fs::path& source, double seconds) {
+capture::ScriptPerformance perform_remote(const site::SiteConfig& remote,
+                                          const ik::AvatarSolver& solver, const fs::path& source,
+                                          double seconds) {
   if (!remote.virtual_user) {
     throw Error(source.string() +
                 ": virtual_user: missing (the remote person is this site's scripted user)");
@@ -54,7 +55,7 @@ capture::ScriptPerformance perform_remote(const SiteConfig& remote, const ik::Av
   const capture::VirtualUserScene scene{remote.user.T_world_floor(), remote.target_map.objects,
                                         partner.translation};
   try {
-    const VirtualUser& user = *remote.virtual_user;
+    const site::VirtualUser& user = *remote.virtual_user;
     return capture::perform_script(capture::find_subject(user.subject), user.script, scene,
                                    user.seed, seconds);
   } catch (const Error& e) {
@@ -71,7 +72,7 @@ struct LocalRemote {
 
 // What a networked headset site needs to meet the other site once its user is calibrated.
 struct NetworkSetup {
-  SitePeerOptions options;
+  site::SitePeerOptions options;
   UprightBody body;
   const std::array<Networks, 2>* networks = nullptr;
   const ik::AvatarSolver* solver = nullptr;
@@ -81,7 +82,7 @@ struct NetworkSetup {
 // once the remote person is there (meeting them builds their avatar once).
 class XrSink final : public xr::FrameSink {
  public:
-  XrSink(const SiteConfig& site, render::Renderer& renderer, render::SkinnedMeshId mesh,
+  XrSink(const site::SiteConfig& site, render::Renderer& renderer, render::SkinnedMeshId mesh,
          const Vec3& remote_head_at_rest)
       : site_(site), renderer_(renderer), mesh_(mesh), remote_head_(remote_head_at_rest) {}
 
@@ -138,7 +139,7 @@ class XrSink final : public xr::FrameSink {
         static_cast<unsigned long long>(valid_counts_[2]),
         static_cast<unsigned long long>(valid_counts_[3]));
     if (peer_) {
-      const SitePeerStats& n = peer_->stats();
+      const site::SitePeerStats& n = peer_->stats();
       std::printf("network: site %s, tracking sent %llu, frames played %llu (%llu missed)\n",
                   n.peer_site.c_str(), static_cast<unsigned long long>(n.sent),
                   static_cast<unsigned long long>(n.played),
@@ -216,15 +217,15 @@ class XrSink final : public xr::FrameSink {
     return local_ && local_->avatar.visible() ? &local_->avatar : nullptr;
   }
 
-  const SiteConfig& site_;
+  const site::SiteConfig& site_;
   render::Renderer& renderer_;
   render::SkinnedMeshId mesh_;
   Vec3 remote_head_;
   std::optional<LocalRemote> local_;
   std::optional<NetworkSetup> network_;
-  std::optional<SitePeer> peer_;
+  std::optional<site::SitePeer> peer_;
   TargetSelector selector_;
-  SiteClock clock_;
+  site::SiteClock clock_;
   double wall_at_first_frame_ = 0.0;  // the wall clock at display time 0
   std::array<render::AvatarDraw, 1> avatars_;
   Vec3 user_head_ = Vec3(0, 1.6f, 0);
@@ -237,7 +238,7 @@ class XrSink final : public xr::FrameSink {
 
 // Everything read before OpenXR starts; any error here is a bad input (exit 2).
 struct XrAssets {
-  SiteConfig site;
+  site::SiteConfig site;
   avatar::Avatar avatar;
   ik::AvatarSolver solver;
   std::array<Networks, 2> networks;                  // by the remote person's deictic hand
@@ -245,14 +246,15 @@ struct XrAssets {
 };
 
 XrAssets load_assets(const XrRunOptions& o) {
-  SiteConfig site = read_site_config(o.site);
+  site::SiteConfig site = site::read_site_config(o.site);
   avatar::Avatar avatar = avatar::load_avatar(site.avatar_path);
   ik::AvatarSolver solver = ik::AvatarSolver::build(avatar.rig);
-  std::array<Networks, 2> networks = {load_moe_networks(o.weights_dir, Hand::kLeft),
-                                      load_moe_networks(o.weights_dir, Hand::kRight)};
+  std::array<Networks, 2> networks = {site::load_moe_networks(o.weights_dir, Hand::kLeft),
+                                      site::load_moe_networks(o.weights_dir, Hand::kRight)};
   std::optional<capture::ScriptPerformance> remote;
   if (!o.network) {
-    remote = perform_remote(read_site_config(o.remote_site), solver, o.remote_site, o.seconds);
+    remote =
+        perform_remote(site::read_site_config(o.remote_site), solver, o.remote_site, o.seconds);
   }
   return {std::move(site), std::move(avatar), std::move(solver), std::move(networks),
           std::move(remote)};
@@ -285,8 +287,8 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   if (local_avatar) {
     sink.use_local({*a.remote, *local_avatar});
   } else {
-    SitePeerOptions peer{o.host ? net::Role::kHost : net::Role::kJoiner, o.address, o.port,
-                         o.passphrase, o.wait};
+    site::SitePeerOptions peer{o.host ? net::Role::kHost : net::Role::kJoiner, o.address, o.port,
+                               o.passphrase, o.wait};
     sink.use_network({peer, UprightBody{o.hand == "left" ? Hand::kLeft : Hand::kRight, o.height, 0},
                       &a.networks, &a.solver});
   }

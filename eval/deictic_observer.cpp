@@ -3,7 +3,7 @@
 #include "eval/metrics.h"
 #include "gesture/features.h"
 
-namespace deixis::app {
+namespace deixis::eval {
 
 namespace {
 
@@ -39,7 +39,7 @@ bool touches(const TrackingFrame& frame, Hand hand, const TargetMap* remote_room
 
 // A hand back in the upright posture holds nothing (the paper's own threshold for the distance
 // feature d): a person who points and then rests keeps the object as their hand target.
-bool away_from_rest(const TrackingFrame& frame, const PoseCopy& copy) {
+bool away_from_rest(const TrackingFrame& frame, const presence::PoseCopy& copy) {
   const BodyCalibration& user = copy.user();
   const int hand = index(user.deictic_hand);
   const Vec3 rest = transform_point(user.T_world_root, user.rest_wrist_in_root[hand]);
@@ -53,7 +53,7 @@ DeicticObserver::DeicticObserver(std::size_t capacity) {
 }
 
 void DeicticObserver::observe(const TrackingFrame& frame, std::uint32_t sequence, double time,
-                              const AvatarChain& avatar, const PoseCopy& copy,
+                              const AvatarChain& avatar, const presence::PoseCopy& copy,
                               const TargetMap& room, const TargetMap* remote_room) {
   const Hand hand = copy.user().deictic_hand;
   const Vec3& tip = frame.index_tip[index(hand)];
@@ -110,8 +110,9 @@ void DeicticObserver::commit() {
 }
 
 DeicticSample DeicticObserver::measure(const TrackingFrame& frame, std::uint32_t sequence,
-                                       double time, const AvatarChain& avatar, const PoseCopy& copy,
-                                       const TargetObject& object, bool touching) const {
+                                       double time, const AvatarChain& avatar,
+                                       const presence::PoseCopy& copy, const TargetObject& object,
+                                       bool touching) const {
   const Hand hand = copy.user().deictic_hand;
   DeicticSample s;
   s.time = time;
@@ -126,4 +127,4 @@ DeicticSample DeicticObserver::measure(const TrackingFrame& frame, std::uint32_t
   return s;
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::eval

@@ -24,7 +24,7 @@
 #include "core/target_map.h"
 #include "presence/pose_copy.h"
 
-namespace deixis::app {
+namespace deixis::eval {
 
 struct DeicticError {
   double horizontal_deg = 0.0;  // pointing
@@ -57,7 +57,7 @@ class DeicticObserver {
   // copy of the person onto the avatar's root, this room, and the person's room (null until its
   // map arrives).
   void observe(const TrackingFrame& frame, std::uint32_t sequence, double time,
-               const AvatarChain& avatar, const PoseCopy& copy, const TargetMap& room,
+               const AvatarChain& avatar, const presence::PoseCopy& copy, const TargetMap& room,
                const TargetMap* remote_room);
   // The stream stopped or ended: a hold in progress ends here.
   void interrupt();
@@ -70,8 +70,8 @@ class DeicticObserver {
   void end_hold();
   void commit();
   DeicticSample measure(const TrackingFrame& frame, std::uint32_t sequence, double time,
-                        const AvatarChain& avatar, const PoseCopy& copy, const TargetObject& object,
-                        bool touching) const;
+                        const AvatarChain& avatar, const presence::PoseCopy& copy,
+                        const TargetObject& object, bool touching) const;
 
   std::vector<DeicticSample> samples_;
   std::uint64_t dropped_ = 0;
@@ -83,4 +83,4 @@ class DeicticObserver {
   DeicticSample candidate_;
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::eval

@@ -28,15 +28,15 @@ void check(bool holds, const char* invariant) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
-    const std::vector<deixis::app::InputEvent> events =
-        deixis::app::parse_input_script(text, "fuzz-input.json");
+    const std::vector<deixis::sim::InputEvent> events =
+        deixis::sim::parse_input_script(text, "fuzz-input.json");
     check(events.size() <= 220'000, "the expansion is bounded");
     for (std::size_t i = 1; i < events.size(); ++i) {
       check(events[i - 1].time <= events[i].time, "events are in time order");
     }
     // Play it: every widget is found at the origin.
-    deixis::app::ScriptedInput input(events);
-    const deixis::app::FindWidget anywhere = [](std::string_view) {
+    deixis::sim::ScriptedInput input(events);
+    const deixis::sim::FindWidget anywhere = [](std::string_view) {
       return std::optional<deixis::render::Vec2>(deixis::render::Vec2(0, 0));
     };
     for (double t = 0.0; t <= 90000.0; t = t * 2.0 + 0.05) {

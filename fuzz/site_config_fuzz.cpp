@@ -37,8 +37,8 @@ const std::filesystem::path& assets() {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   try {
-    const deixis::app::SiteConfig config =
-        deixis::app::parse_site_config(text, "fuzz-input.json", assets());
+    const deixis::site::SiteConfig config =
+        deixis::site::parse_site_config(text, "fuzz-input.json", assets());
     check(!config.site.empty() && config.site.size() <= deixis::kMaxNameBytes &&
               deixis::is_wire_text(config.site),
           "the site name is wire text");

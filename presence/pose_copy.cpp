@@ -2,7 +2,7 @@
 
 #include "ik/other_arm_job.h"
 
-namespace deixis::app {
+namespace deixis::presence {
 
 PoseCopy::PoseCopy(const BodyCalibration& user, const Pose& T_world_origin, float avatar_height)
     : user_(user),
@@ -59,4 +59,4 @@ void CopiedAvatar::solve(const TrackingFrame& frame) {
   job.run();
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::presence

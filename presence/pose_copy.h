@@ -12,7 +12,7 @@
 #include "core/tracking.h"
 #include "ik/avatar_solver.h"
 
-namespace deixis::app {
+namespace deixis::presence {
 
 class PoseCopy {
  public:
@@ -62,4 +62,4 @@ class CopiedAvatar {
   std::vector<Pose> model_;
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::presence

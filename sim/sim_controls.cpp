@@ -2,7 +2,7 @@
 
 #include "sim/sim_pick.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 namespace {
 
@@ -154,4 +154,4 @@ void SimControls::run(UserCommand command, TargetId target, double t) {
   }
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

@@ -17,7 +17,7 @@
 #include "sim/sim_user.h"
 #include "sim/sim_views.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 enum class UserCommand { kLookAtPartner, kPoint, kTouch, kExplain, kRest };
 
@@ -61,4 +61,4 @@ class SimControls {
   LookAngles look_start_;
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

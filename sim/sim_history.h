@@ -9,7 +9,7 @@
 
 #include "gesture/translator.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 class Ring {
  public:
@@ -61,4 +61,4 @@ struct SimHistory {
   }
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

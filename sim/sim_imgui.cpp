@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 ImGuiLayer::ImGuiLayer(GLFWwindow* window) {
   IMGUI_CHECKVERSION();
@@ -62,4 +62,4 @@ bool ImGuiLayer::wants_keyboard() const {
   return ImGui::GetIO().WantCaptureKeyboard;
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

@@ -8,7 +8,7 @@
 
 struct GLFWwindow;
 
-namespace deixis::app {
+namespace deixis::sim {
 
 class ImGuiLayer {
  public:
@@ -28,4 +28,4 @@ class ImGuiLayer {
   bool wants_keyboard() const;
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

@@ -7,7 +7,7 @@
 
 #include "core/io/json_reader.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 namespace {
 
@@ -291,4 +291,4 @@ FrameInput WindowInput::next() {
   return in;
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

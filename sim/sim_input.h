@@ -34,7 +34,7 @@
 
 struct GLFWwindow;
 
-namespace deixis::app {
+namespace deixis::sim {
 
 enum class Button : std::uint8_t { kLeft = 0, kRight = 1, kMiddle = 2 };
 inline constexpr std::size_t kButtons = 3;
@@ -105,4 +105,4 @@ class WindowInput {
   std::array<bool, 4> keys_down_{};
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

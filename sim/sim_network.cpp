@@ -4,10 +4,11 @@
 
 #include "core/error.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
-SimNetwork::SimNetwork(const SitePeerOptions& options, const SiteConfig& site,
-                       const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
+SimNetwork::SimNetwork(const site::SitePeerOptions& options, const site::SiteConfig& site,
+                       const BodyCalibration& user,
+                       const std::array<site::MoeNetworks, 2>& networks,
                        const ik::AvatarSolver& solver)
     : options_(options), port_(options.port) {
   try {
@@ -57,7 +58,7 @@ const presence::RemoteAvatar* SimNetwork::visible_avatar() const {
   return peer_ ? peer_->visible_avatar() : nullptr;
 }
 
-const SitePeerStats& SimNetwork::stats() const {
+const site::SitePeerStats& SimNetwork::stats() const {
   return peer_ ? peer_->stats() : stats_;
 }
 
@@ -68,7 +69,7 @@ PanelNetwork SimNetwork::panel() const {
   p.address = options_.address;
   p.port = port_;
   p.passphrase = !options_.passphrase.empty();
-  const SitePeerStats& s = stats();
+  const site::SitePeerStats& s = stats();
   p.peer_site = s.peer_site;
   p.sent = s.sent;
   p.played = s.played;
@@ -89,4 +90,4 @@ void SimNetwork::close() {
   }
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

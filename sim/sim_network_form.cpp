@@ -7,7 +7,7 @@
 
 #include "site/endpoint.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 namespace {
 
@@ -25,9 +25,9 @@ bool numeric_ipv4(const std::string& address) {
 
 FormSession join_session(const NetworkForm& form) {
   FormSession s;
-  SitePeerOptions o;
+  site::SitePeerOptions o;
   o.role = net::Role::kJoiner;
-  const std::string problem = parse_endpoint(form.endpoint.data(), o.address, o.port);
+  const std::string problem = site::parse_endpoint(form.endpoint.data(), o.address, o.port);
   if (!problem.empty()) {
     s.problem = std::string("Join: ") + form.endpoint.data() + ": " + problem;
   } else if (!numeric_ipv4(o.address)) {
@@ -42,7 +42,7 @@ FormSession join_session(const NetworkForm& form) {
 
 FormSession host_session(const NetworkForm& form) {
   FormSession s;
-  SitePeerOptions o;
+  site::SitePeerOptions o;
   o.role = net::Role::kHost;
   o.address = form.bind;
   const std::string text = form.port.data();
@@ -81,9 +81,10 @@ FormSession form_session(const NetworkForm& form) {
   if (s.options) {
     s.options->passphrase = form.passphrase.data();
     s.options->wait = form.wait;
-    // The rule of every host (SiteSession checks it again): said under the form before trying.
+    // The rule of every host (site::SiteSession checks it again): said under the form before
+    // trying.
     const std::string problem =
-        form.host ? host_exposure_problem(s.options->address, !s.options->passphrase.empty())
+        form.host ? site::host_exposure_problem(s.options->address, !s.options->passphrase.empty())
                   : std::string();
     if (!problem.empty()) {
       s.options.reset();
@@ -93,4 +94,4 @@ FormSession form_session(const NetworkForm& form) {
   return s;
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

@@ -2,7 +2,7 @@
 // The panel's network form (docs/sim.md): what a person types to host or join a session from the
 // simulator's window — the role, the host's HOST:PORT (join) or the port to listen on (host), the
 // passphrase — and its check into the options `--host` / `--join` give, so a session started
-// from the panel is the same SitePeer session as one started from the flags.
+// from the panel is the same site::SitePeer session as one started from the flags.
 
 #include <array>
 #include <optional>
@@ -11,7 +11,7 @@
 #include "sim/sim_options.h"
 #include "site/site_peer.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 struct NetworkForm {
   bool host = false;                   // host, else join
@@ -28,9 +28,9 @@ NetworkForm initial_network_form(const SimOptions& flags);
 
 // The session the form asks for, or why it cannot start (`problem`, shown under the form).
 struct FormSession {
-  std::optional<SitePeerOptions> options;
+  std::optional<site::SitePeerOptions> options;
   std::string problem;
 };
 FormSession form_session(const NetworkForm& form);
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

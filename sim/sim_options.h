@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-namespace deixis::app {
+namespace deixis::sim {
 
 // `deixis sim`: the desktop simulator (docs/sim.md). A window with the local room (site A) and
 // its virtual user, driven by mouse and keys or by the site's script, and the remote room (site
@@ -37,4 +37,7 @@ struct SimOptions {
   double wait = 30.0;  // s for the other site to come
 };
 
-}  // namespace deixis::app
+// Runs the simulator (sim/sim_run.cpp): the window, its views, the ticks. Returns the exit code.
+int run_sim(const SimOptions& options);
+
+}  // namespace deixis::sim

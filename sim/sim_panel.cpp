@@ -7,7 +7,7 @@
 
 #include "sim/sim_panel_parts.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 namespace {
 
@@ -170,4 +170,4 @@ PanelActions draw_panel(const ViewRect& rect, const PanelStatus& s, PanelEdits& 
   return a;
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

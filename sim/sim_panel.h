@@ -14,7 +14,7 @@
 #include "sim/sim_network_form.h"
 #include "sim/sim_views.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 // The network section when the simulator hosts or joins another site (sim/sim_network.h).
 struct PanelNetwork {
@@ -79,4 +79,4 @@ struct PanelWidgets {
 PanelActions draw_panel(const ViewRect& rect, const PanelStatus& status, PanelEdits& edits,
                         PanelWidgets* widgets);
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

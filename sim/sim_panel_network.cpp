@@ -4,7 +4,7 @@
 
 #include "sim/sim_panel_parts.h"
 
-namespace deixis::app::panel {
+namespace deixis::sim::panel {
 
 namespace {
 
@@ -125,4 +125,4 @@ void network_section(const PanelStatus& s, NetworkForm& form, PanelActions& a,
   }
 }
 
-}  // namespace deixis::app::panel
+}  // namespace deixis::sim::panel

@@ -6,7 +6,7 @@
 
 #include "sim/sim_panel.h"
 
-namespace deixis::app::panel {
+namespace deixis::sim::panel {
 
 // Remembers where the last widget was drawn under `label`.
 void note(PanelWidgets* widgets, std::string_view label);
@@ -18,4 +18,4 @@ bool button(const char* label, PanelWidgets* widgets);
 void network_section(const PanelStatus& s, NetworkForm& form, PanelActions& a,
                      PanelWidgets* widgets);
 
-}  // namespace deixis::app::panel
+}  // namespace deixis::sim::panel

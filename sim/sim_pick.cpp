@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-namespace deixis::app {
+namespace deixis::sim {
 
 namespace {
 
@@ -88,4 +88,4 @@ std::optional<Vec3> ray_at_height(const render::Ray& ray, float y, float max_dis
   return ray.origin + t * ray.direction;
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

@@ -8,7 +8,7 @@
 #include "core/target_map.h"
 #include "render/camera.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 // Distance along `ray` to where it enters `object` (a sphere of diameter size.x, or the box of
 // `size` about its centre; a screen is a thin box), or empty when it misses or the object is
@@ -22,4 +22,4 @@ TargetId pick_object(const render::Ray& ray, const TargetMap& map);
 // away from it, or meets it further than `max_distance` (the horizon: a drag stops there).
 std::optional<Vec3> ray_at_height(const render::Ray& ray, float y, float max_distance = 30.0f);
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

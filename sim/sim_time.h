@@ -8,7 +8,7 @@
 #include <chrono>
 #include <cstdint>
 
-namespace deixis::app {
+namespace deixis::sim {
 
 class SimTime {
  public:
@@ -43,4 +43,4 @@ class SimTime {
   double last_ = 0.0;
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

@@ -7,7 +7,7 @@
 #include "capture/posture.h"
 #include "capture/recorder.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 namespace {
 
@@ -157,4 +157,4 @@ TrackingFrame SimUser::sample(double t) const {
   return f;
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

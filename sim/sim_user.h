@@ -17,7 +17,7 @@
 #include "capture/motion.h"
 #include "capture/subject.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 struct SimUserScene {
   Pose T_world_floor;                 // where the user stands: floor point, yaw only
@@ -80,4 +80,4 @@ class SimUser {
   LookAngles planned_;
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace deixis::app {
+namespace deixis::sim {
 
 bool ViewRect::contains(const render::Vec2& p) const {
   return p.x() >= static_cast<float>(x) && p.y() >= static_cast<float>(y) &&
@@ -23,7 +23,7 @@ SimLayout sim_layout(int width, int height, float panel_fraction) {
           {0, view_height, width, panel}};
 }
 
-RoomView::RoomView(const SiteConfig& site, const TargetMap& map) : site_camera_(site.camera) {
+RoomView::RoomView(const site::SiteConfig& site, const TargetMap& map) : site_camera_(site.camera) {
   renderer_.emplace();
   renderer_->set_targets(map);
 }
@@ -33,7 +33,7 @@ void RoomView::place(const ViewRect& rect) {
   rect_ = rect;
   if (resized || !target_) {
     target_.emplace(rect.width, rect.height);
-    camera_ = site_camera(site_camera_, rect.width, rect.height);
+    camera_ = site::site_camera(site_camera_, rect.width, rect.height);
   }
 }
 
@@ -59,4 +59,4 @@ void RoomView::draw(std::span<const render::AvatarDraw> avatars,
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

@@ -13,7 +13,7 @@
 #include "site/site_config.h"
 #include "site/site_view.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 // A rectangle of the window in pixels, row 0 at the top (as the mouse reports).
 struct ViewRect {
@@ -38,7 +38,7 @@ SimLayout sim_layout(int width, int height, float panel_fraction = 0.34f);
 class RoomView {
  public:
   // Needs the window's GL context current. `map` is the room's objects as first shown.
-  RoomView(const SiteConfig& site, const TargetMap& map);
+  RoomView(const site::SiteConfig& site, const TargetMap& map);
 
   // The window rectangle this view fills (its framebuffer is rebuilt when the size changes).
   void place(const ViewRect& rect);
@@ -55,11 +55,11 @@ class RoomView {
             int window_height);
 
  private:
-  Camera site_camera_;
+  site::Camera site_camera_;
   ViewRect rect_;
   render::Camera camera_;
   std::optional<render::Renderer> renderer_;
   std::optional<render::OffscreenTarget> target_;
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::sim

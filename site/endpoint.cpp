@@ -17,7 +17,7 @@
 #include <exception>
 #include <fstream>
 
-namespace deixis::app {
+namespace deixis::site {
 
 std::string parse_endpoint(const std::string& text, std::string& address, std::uint16_t& port) {
   const std::size_t colon = text.rfind(':');
@@ -209,4 +209,4 @@ std::string ask_passphrase(const std::string& prompt, std::string& passphrase) {
   return {};
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::site

@@ -10,7 +10,7 @@
 #include <filesystem>
 #include <string>
 
-namespace deixis::app {
+namespace deixis::site {
 
 // Splits `text` into `address` and `port` (1 to 65535). Returns what is wrong with it, e.g. "the
 // port must be a number", or an empty string when it is fine (then, only, the outputs are set).
@@ -54,4 +54,4 @@ std::string read_passphrase_file(const std::filesystem::path& file, std::string&
 // Returns what is wrong (no terminal, an empty answer), or an empty string.
 std::string ask_passphrase(const std::string& prompt, std::string& passphrase);
 
-}  // namespace deixis::app
+}  // namespace deixis::site

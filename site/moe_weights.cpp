@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 MoeNetworks load_moe_networks(const std::filesystem::path& weights_dir, Hand hand) {
   const std::filesystem::path dir = weights_dir / (hand == Hand::kLeft ? "left" : "right");
@@ -16,4 +16,4 @@ MoeNetworks load_moe_networks(const std::filesystem::path& weights_dir, Hand han
           nn::Ugnet::load(dir / "UGNet(MoE)(AC)120.safetensors")};
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::site

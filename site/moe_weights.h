@@ -8,7 +8,7 @@
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 struct MoeNetworks {
   nn::Mpnet mpnet;
@@ -19,4 +19,4 @@ struct MoeNetworks {
 // file and the options that choose the directory.
 MoeNetworks load_moe_networks(const std::filesystem::path& weights_dir, Hand hand);
 
-}  // namespace deixis::app
+}  // namespace deixis::site

@@ -14,7 +14,7 @@
 #include "site/site_peer.h"
 #include "site/site_view.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 namespace {
 
@@ -50,7 +50,7 @@ class RemoteMeasure final : public RemotePersonWatcher {
 
   void start(double start) { start_ = start; }
   void finish() { observer_.interrupt(); }  // a hold still in progress ends with the run
-  const DeicticObserver& observer() const { return observer_; }
+  const eval::DeicticObserver& observer() const { return observer_; }
   TargetId last_target() const { return last_target_; }
 
   void on_new_person(const net::Hello& hello, const presence::RemoteAvatar&) override {
@@ -66,8 +66,8 @@ class RemoteMeasure final : public RemotePersonWatcher {
       return;
     }
     last_target_ = frame->hand_target;
-    const AvatarChain chain{avatar.eye_midpoint(), avatar.index_fingertip(),
-                            a_.T_world_remote_origin};
+    const eval::AvatarChain chain{avatar.eye_midpoint(), avatar.index_fingertip(),
+                                  a_.T_world_remote_origin};
     const net::Session& session = peer_.network().session();
     observer_.observe(*frame, p.sequence, now_ - start_, chain, *copy_, a_.site.target_map,
                       session.remote_target_map());
@@ -81,8 +81,8 @@ class RemoteMeasure final : public RemotePersonWatcher {
   const SiteAssets& a_;
   SiteRecord& record_;
   const SitePeer& peer_;
-  std::optional<PoseCopy> copy_;
-  DeicticObserver observer_;
+  std::optional<presence::PoseCopy> copy_;
+  eval::DeicticObserver observer_;
   TargetId last_target_ = kNoTarget;
   double start_ = 0.0;
   double now_ = 0.0;
@@ -185,7 +185,7 @@ class ScriptedSite {
     record_.seconds = end - start_;
     record_.visible_ticks = peer_.stats().visible_ticks;
     record_.own_steps = user_.steps;
-    const DeicticObserver& observer = measure_.observer();
+    const eval::DeicticObserver& observer = measure_.observer();
     record_.remote_completions.assign(observer.samples().begin(), observer.samples().end());
     record_.completions_dropped = observer.dropped();
     record_.net = session.stats();
@@ -204,7 +204,7 @@ class ScriptedSite {
   const ScriptedUser& user_;
   SitePeer& peer_;
   SiteView* view_;
-  CopiedAvatar user_copy_;  // the user's own view: their pose copied where they stand
+  presence::CopiedAvatar user_copy_;  // the user's own view: their pose copied where they stand
   SiteRecord record_;
   RemoteMeasure measure_;
   std::uint64_t ticks_ = 0;
@@ -250,4 +250,4 @@ SiteRecord run_scripted_site(const SiteRunOptions& o, const SiteAssets& assets,
   return record;
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::site

@@ -20,7 +20,7 @@
 #include "site/site_config.h"
 #include "site/site_report.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 // `deixis host` and `deixis join`: one site (docs/demo.md). The site's virtual user performs its
 // script; tracking goes to the other site and the other's avatar is translated into this room
@@ -68,4 +68,4 @@ struct ScriptedUser {
 SiteRecord run_scripted_site(const SiteRunOptions& options, const SiteAssets& assets,
                              const ScriptedUser& user);
 
-}  // namespace deixis::app
+}  // namespace deixis::site

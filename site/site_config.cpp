@@ -4,7 +4,7 @@
 
 #include "core/io/json_reader.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 namespace {
 
@@ -141,4 +141,4 @@ SiteConfig read_site_config(const std::filesystem::path& path) {
   return parse_site_config(JsonReader::read_file(path), path.string(), path.parent_path());
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::site

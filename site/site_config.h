@@ -15,7 +15,7 @@
 #include "core/script_step.h"
 #include "core/target_map.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 // A person's or avatar's place in a room: a point on the floor and a facing direction.
 // yaw_degrees turns about +Y; 0 faces −Z, 180 faces +Z.
@@ -58,4 +58,4 @@ SiteConfig parse_site_config(std::string_view json_text, std::string_view source
                              const std::filesystem::path& base_dir);
 SiteConfig read_site_config(const std::filesystem::path& path);
 
-}  // namespace deixis::app
+}  // namespace deixis::site

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <chrono>
 
-namespace deixis::app {
+namespace deixis::site {
 
 namespace {
 
@@ -102,4 +102,4 @@ const presence::RemoteAvatar* SitePeer::visible_avatar() const {
   return live_ && avatar_ && avatar_->visible() ? &*avatar_ : nullptr;
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::site

@@ -17,7 +17,7 @@
 #include "site/site_config.h"
 #include "site/site_session.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 struct SitePeerOptions {
   net::Role role = net::Role::kHost;
@@ -93,4 +93,4 @@ class SitePeer {
   SitePeerStats stats_;
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::site

@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "net/protocol.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 namespace {
 
@@ -26,7 +26,7 @@ json timing(const std::vector<double>& ms) {
           {"p99", number(percentile(ms, 99))}};
 }
 
-json error_json(const DeicticError& e, bool touching) {
+json error_json(const eval::DeicticError& e, bool touching) {
   if (touching) {
     return {{"touch_cm", number(e.touch_cm)}};
   }
@@ -38,9 +38,9 @@ struct Means {
   double avatar_h = 0, avatar_v = 0, avatar_cm = 0, copy_h = 0, copy_v = 0, copy_cm = 0;
 };
 
-Means means(const std::vector<DeicticSample>& samples, bool touching) {
+Means means(const std::vector<eval::DeicticSample>& samples, bool touching) {
   Means m;
-  for (const DeicticSample& s : samples) {
+  for (const eval::DeicticSample& s : samples) {
     if (s.touching != touching) {
       continue;
     }
@@ -117,9 +117,9 @@ json steps_json(const std::vector<StepTiming>& steps) {
   return out;
 }
 
-json completions_json(const std::vector<DeicticSample>& samples) {
+json completions_json(const std::vector<eval::DeicticSample>& samples) {
   json out = json::array();
-  for (const DeicticSample& s : samples) {
+  for (const eval::DeicticSample& s : samples) {
     out.push_back({{"time_s", s.time},
                    {"sequence", s.sequence},
                    {"target", s.target},
@@ -197,4 +197,4 @@ void print_site_summary(const SiteRecord& r, std::FILE* out) {
                t.avatar_cm, t.copy_cm);
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::site

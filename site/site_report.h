@@ -15,7 +15,7 @@
 #include "net/enet_link.h"
 #include "net/session.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 struct SiteRecord {
   std::string site;
@@ -28,7 +28,7 @@ struct SiteRecord {
   std::vector<double> translation_ms;  // per remote frame: translator + whole-avatar IK
   std::vector<double> render_ms;       // per tick: both views drawn and read back
   std::vector<StepTiming> own_steps;
-  std::vector<DeicticSample> remote_completions;
+  std::vector<eval::DeicticSample> remote_completions;
   std::uint64_t completions_dropped = 0;
   // Network, at the end of the run.
   net::SessionStats net;
@@ -47,4 +47,4 @@ double percentile(std::vector<double> values, double p);
 void write_site_report(const SiteRecord& record, const std::filesystem::path& path);
 void print_site_summary(const SiteRecord& record, std::FILE* out);
 
-}  // namespace deixis::app
+}  // namespace deixis::site

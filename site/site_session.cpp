@@ -6,7 +6,7 @@
 #include "core/error.h"
 #include "site/endpoint.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 namespace {
 
@@ -106,4 +106,4 @@ void SiteSession::close(double now) {
   }
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::site

@@ -12,7 +12,7 @@
 #include "net/enet_link.h"
 #include "net/session.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 // Seconds since construction, on the steady clock: the one clock a site runs on.
 class SiteClock {
@@ -70,4 +70,4 @@ class SiteSession {
   bool closed_ = false;
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::site

@@ -5,7 +5,7 @@
 #include <cstring>
 #include <numbers>
 
-namespace deixis::app {
+namespace deixis::site {
 
 render::Camera site_camera(const Camera& c, int width, int height) {
   const float vertical = c.fov_degrees * std::numbers::pi_v<float> / 180.0f;
@@ -83,4 +83,4 @@ void SiteView::finish() {
   }
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::site

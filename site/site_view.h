@@ -19,7 +19,7 @@
 #include "render/video_writer.h"
 #include "site/site_config.h"
 
-namespace deixis::app {
+namespace deixis::site {
 
 // One avatar as drawn: where its model frame is and its joints' model poses; a ray from its eyes
 // through its fingertip toward what it designates, when it does.
@@ -64,4 +64,4 @@ class SiteView {
   std::unique_ptr<render::VideoWriter> video_;
 };
 
-}  // namespace deixis::app
+}  // namespace deixis::site

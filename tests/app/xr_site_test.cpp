@@ -47,12 +47,12 @@ std::string short_site_a() {
 
 // The site's virtual user performed in room A, as `deixis host --site` would.
 std::vector<TrackingFrame> performed(const fs::path& site_file) {
-  const SiteConfig a = read_site_config(site_file);
+  const site::SiteConfig a = site::read_site_config(site_file);
   const ik::AvatarSolver solver = ik::AvatarSolver::build(avatar::load_avatar(a.avatar_path).rig);
   const Pose partner = presence::avatar_origin(solver, a.remote_avatar.T_world_floor());
   const capture::VirtualUserScene scene{a.user.T_world_floor(), a.target_map.objects,
                                         partner.translation};
-  const VirtualUser& user = *a.virtual_user;
+  const site::VirtualUser& user = *a.virtual_user;
   return capture::perform_script(capture::find_subject(user.subject), user.script, scene, user.seed)
       .sequence.frames;
 }

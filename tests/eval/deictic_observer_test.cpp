@@ -11,7 +11,7 @@
 #include <cmath>
 #include <vector>
 
-namespace deixis::app {
+namespace deixis::eval {
 namespace {
 
 constexpr double kPeriod = 1.0 / 30.0;  // s between the sender's frames
@@ -19,7 +19,7 @@ constexpr TargetId kCup = 1;
 
 struct Scene {
   BodyCalibration user;  // root O at the world origin, facing −Z, right-handed pointer
-  PoseCopy copy{user, Pose(), 1.70f};
+  presence::PoseCopy copy{user, Pose(), 1.70f};
   TargetMap room{"B",
                  {TargetObject{kCup, "cup", TargetKind::kSphere, Vec3(0.4f, 0.0f, -1.5f),
                                Vec3::Constant(0.1f)}}};
@@ -37,7 +37,7 @@ TrackingFrame frame_at(int k, float z, TargetId target = kCup) {
 }
 
 // The avatar points exactly at the cup: its fingertip on the line from the eyes to the cup.
-AvatarChain pointing_at(const Scene& s) {
+eval::AvatarChain pointing_at(const Scene& s) {
   const Vec3 eyes = Vec3::Zero();
   return {eyes, eyes + 0.6f * (s.room.objects[0].position - eyes).normalized(), Pose()};
 }
@@ -45,8 +45,8 @@ AvatarChain pointing_at(const Scene& s) {
 // A receiving site's observer watching the scene's person, the avatar pointing at the cup.
 struct Watch {
   Scene scene;
-  AvatarChain chain = pointing_at(scene);
-  DeicticObserver observer;
+  eval::AvatarChain chain = pointing_at(scene);
+  eval::DeicticObserver observer;
 
   explicit Watch(std::size_t capacity) : observer(capacity) {}
 
@@ -70,7 +70,7 @@ float reach_hold_lower_z(int k) {
 // The reach, hold and lowering, then the target dropped (frame 28); each frame's local play time
 // from `local_time(k)`.
 template <typename LocalTime>
-std::vector<DeicticSample> observe_reach_hold_lower(LocalTime local_time) {
+std::vector<eval::DeicticSample> observe_reach_hold_lower(LocalTime local_time) {
   Watch watch(8);
   for (int k = 0; k <= 28; ++k) {
     watch.play(k, reach_hold_lower_z(k), local_time(k), k < 28 ? kCup : kNoTarget);
@@ -147,4 +147,4 @@ TEST(DeicticObserver, SamplesBeyondItsCapacityAreCountedAndDropped) {
 }
 
 }  // namespace
-}  // namespace deixis::app
+}  // namespace deixis::eval

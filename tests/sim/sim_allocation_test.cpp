@@ -8,7 +8,7 @@
 #include "sim/sim_history.h"
 #include "sim/sim_user.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 namespace {
 
 TEST(SimAllocationTest, SamplingTheUserAndRecordingATickAllocateNothing) {
@@ -34,4 +34,4 @@ TEST(SimAllocationTest, SamplingTheUserAndRecordingATickAllocateNothing) {
 }
 
 }  // namespace
-}  // namespace deixis::app
+}  // namespace deixis::sim

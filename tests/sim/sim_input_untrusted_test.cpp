@@ -7,7 +7,7 @@
 #include "core/error.h"
 #include "sim/sim_input.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 namespace {
 
 std::string script_of(const std::string& events, const std::string& version = "1") {
@@ -67,4 +67,4 @@ TEST(SimInputUntrusted, ExpansionAndTextAreBounded) {
 }
 
 }  // namespace
-}  // namespace deixis::app
+}  // namespace deixis::sim

@@ -15,7 +15,7 @@
 #include "sim/sim_pick.h"
 #include "sim/sim_user.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 namespace {
 
 using render::Ray;
@@ -245,4 +245,4 @@ TEST(SimHistoryTest, RingsKeepTheLastValuesInOrderAndTheirQuantiles) {
 }
 
 }  // namespace
-}  // namespace deixis::app
+}  // namespace deixis::sim

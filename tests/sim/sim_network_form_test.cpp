@@ -12,7 +12,7 @@
 #include "sim/sim_time.h"
 #include "site/endpoint.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 namespace {
 
 template <std::size_t N>
@@ -21,7 +21,7 @@ void set(std::array<char, N>& field, const char* text) {
 }
 
 TEST(SimNetworkFormTest, WithoutFlagsItJoinsTheLoopbackAtTheDefaultPort) {
-  const NetworkForm form = initial_network_form(SimOptions{});
+  const NetworkForm form = initial_network_form(sim::SimOptions{});
   EXPECT_FALSE(form.host);
   EXPECT_STREQ(form.endpoint.data(), "127.0.0.1:7350");
   EXPECT_STREQ(form.port.data(), "7350");
@@ -35,7 +35,7 @@ TEST(SimNetworkFormTest, WithoutFlagsItJoinsTheLoopbackAtTheDefaultPort) {
 }
 
 TEST(SimNetworkFormTest, TheFlagsFillItAndItStartsWhatTheyWould) {
-  SimOptions join;
+  sim::SimOptions join;
   join.network = true;
   join.host = false;
   join.address = "10.0.0.2";
@@ -54,7 +54,7 @@ TEST(SimNetworkFormTest, TheFlagsFillItAndItStartsWhatTheyWould) {
   EXPECT_EQ(s.options->passphrase, "blue whale");
   EXPECT_EQ(s.options->wait, 5.0);
 
-  SimOptions host;
+  sim::SimOptions host;
   host.network = true;
   host.host = true;
   host.address = "127.0.0.1";  // --bind
@@ -74,19 +74,19 @@ TEST(SimNetworkFormTest, TheFlagsFillItAndItStartsWhatTheyWould) {
   form.host = true;
   s = form_session(form);
   ASSERT_TRUE(s.options.has_value()) << s.problem;
-  EXPECT_EQ(s.options->address, SimOptions{}.address);
+  EXPECT_EQ(s.options->address, sim::SimOptions{}.address);
   EXPECT_EQ(s.options->port, 7350);
 }
 
 // The problem the form's Start finds with `text` in the join field (empty: none).
 std::string join_problem(const char* text) {
-  NetworkForm form = initial_network_form(SimOptions{});
+  NetworkForm form = initial_network_form(sim::SimOptions{});
   set(form.endpoint, text);
   return form_session(form).problem;
 }
 
 std::string host_problem(const char* port) {
-  NetworkForm form = initial_network_form(SimOptions{});
+  NetworkForm form = initial_network_form(sim::SimOptions{});
   form.host = true;
   set(form.port, port);
   return form_session(form).problem;
@@ -110,7 +110,7 @@ TEST(SimNetworkFormTest, WhatCannotStartSaysWhy) {
 TEST(SimNetworkFormTest, AHostBeyondLoopbackNeedsAPassphraseOrOpen) {
   // The panel hosts where --bind said (127.0.0.1 by default); beyond loopback without a
   // passphrase it refuses, saying what to do, unless the command line allowed open sessions.
-  SimOptions flags;
+  sim::SimOptions flags;
   flags.network = true;
   flags.host = true;
   flags.address = "0.0.0.0";
@@ -126,9 +126,9 @@ TEST(SimNetworkFormTest, AHostBeyondLoopbackNeedsAPassphraseOrOpen) {
   ASSERT_TRUE(s.options.has_value()) << s.problem;
   EXPECT_EQ(s.options->address, "0.0.0.0");
   set(form.passphrase, "");
-  allow_open_sessions(true);
+  site::allow_open_sessions(true);
   s = form_session(form);
-  allow_open_sessions(false);
+  site::allow_open_sessions(false);
   ASSERT_TRUE(s.options.has_value()) << s.problem;
 
   // Loopback in any spelling that resolves into 127.0.0.0/8 is fine without.
@@ -136,11 +136,11 @@ TEST(SimNetworkFormTest, AHostBeyondLoopbackNeedsAPassphraseOrOpen) {
     form.bind = bind;
     EXPECT_TRUE(form_session(form).options.has_value()) << bind;
   }
-  EXPECT_EQ(initial_network_form(SimOptions{}).bind, "127.0.0.1");
-  EXPECT_TRUE(binds_loopback_only("127.0.0.1"));
-  EXPECT_FALSE(binds_loopback_only("0.0.0.0"));
-  EXPECT_FALSE(binds_loopback_only("10.0.0.2"));
-  EXPECT_FALSE(binds_loopback_only(""));
+  EXPECT_EQ(initial_network_form(sim::SimOptions{}).bind, "127.0.0.1");
+  EXPECT_TRUE(site::binds_loopback_only("127.0.0.1"));
+  EXPECT_FALSE(site::binds_loopback_only("0.0.0.0"));
+  EXPECT_FALSE(site::binds_loopback_only("10.0.0.2"));
+  EXPECT_FALSE(site::binds_loopback_only(""));
 }
 
 TEST(SimTimeTest, FixedStepsThenTheWallClockFromWhereTheyStopped) {
@@ -165,4 +165,4 @@ TEST(SimTimeTest, FixedStepsThenTheWallClockFromWhereTheyStopped) {
 }
 
 }  // namespace
-}  // namespace deixis::app
+}  // namespace deixis::sim

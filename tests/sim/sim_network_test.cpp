@@ -133,9 +133,10 @@ class SimNetworkTest : public ::testing::Test {
   // site A's remote avatar does, in room A's view (the floor and sky there are a pale grey-blue,
   // blue less than 1.4 times red; the user's own copy stands well to the left).
   int shirt_at_a_remote_avatar() const {
-    const SiteConfig a = read_site_config(site("a.json"));
-    const SimLayout layout = sim_layout(kWidth, kHeight);
-    const render::Camera camera = site_camera(a.camera, layout.local.width, layout.local.height);
+    const site::SiteConfig a = site::read_site_config(site("a.json"));
+    const sim::SimLayout layout = sim::sim_layout(kWidth, kHeight);
+    const render::Camera camera =
+        site::site_camera(a.camera, layout.local.width, layout.local.height);
     const Vec3 chest = a.remote_avatar.floor + Vec3(0, 1.25f, 0);
     const auto at =
         render::project_to_pixel(camera, layout.local.width, layout.local.height, chest);

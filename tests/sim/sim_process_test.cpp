@@ -163,7 +163,7 @@ std::string pixel(const render::Vec2& p) {
 }
 
 // The window pixel of a world point in one of the views.
-render::Vec2 in_window(const ViewRect& rect, const render::Camera& camera, const Vec3& p) {
+render::Vec2 in_window(const sim::ViewRect& rect, const render::Camera& camera, const Vec3& p) {
   const auto local = render::project_to_pixel(camera, rect.width, rect.height, p);
   EXPECT_TRUE(local.has_value());
   const render::Vec2 at =
@@ -194,11 +194,13 @@ TEST_F(SimProcessTest, ADraggedObjectMovesAndTheAvatarPointsAtItsNewPlace) {
     GTEST_SKIP() << xvfb.error();
   }
   ASSERT_TRUE(xvfb.ready()) << xvfb.error();
-  const SimLayout layout = sim_layout(kWidth, kHeight);
-  const SiteConfig a = read_site_config(dir() / "a.json");
-  const SiteConfig b = read_site_config(dir() / "b.json");
-  const render::Camera camera_a = site_camera(a.camera, layout.local.width, layout.local.height);
-  const render::Camera camera_b = site_camera(b.camera, layout.remote.width, layout.remote.height);
+  const sim::SimLayout layout = sim::sim_layout(kWidth, kHeight);
+  const site::SiteConfig a = site::read_site_config(dir() / "a.json");
+  const site::SiteConfig b = site::read_site_config(dir() / "b.json");
+  const render::Camera camera_a =
+      site::site_camera(a.camera, layout.local.width, layout.local.height);
+  const render::Camera camera_b =
+      site::site_camera(b.camera, layout.remote.width, layout.remote.height);
   const render::Vec2 from = in_window(layout.remote, camera_b, kJupiterB);
   const render::Vec2 to = in_window(layout.remote, camera_b, kJupiterMoved);
   const render::Vec2 jupiter_a = in_window(layout.local, camera_a, kJupiterA);

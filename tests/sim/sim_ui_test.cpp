@@ -17,7 +17,7 @@
 #include "render/image.h"
 #include "sim/sim_panel.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 namespace {
 
 constexpr int kWidth = 1280;
@@ -313,4 +313,4 @@ TEST_F(SimPanelTest, AScriptedUserTakesNoCommands) {
 }
 
 }  // namespace
-}  // namespace deixis::app
+}  // namespace deixis::sim

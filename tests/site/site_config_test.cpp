@@ -7,7 +7,7 @@
 #include "core/error.h"
 #include "test_support.h"
 
-namespace deixis::app {
+namespace deixis::site {
 namespace {
 
 namespace fs = std::filesystem;
@@ -106,4 +106,4 @@ TEST(SiteConfig, HostileFilesAreRefusedNamingFileAndPlace) {
 }
 
 }  // namespace
-}  // namespace deixis::app
+}  // namespace deixis::site

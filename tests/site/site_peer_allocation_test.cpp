@@ -47,7 +47,7 @@ void* __libc_malloc(std::size_t size);
 void __libc_free(void* pointer);
 }
 
-namespace deixis::app {
+namespace deixis::site {
 namespace {
 
 namespace fs = std::filesystem;
@@ -196,4 +196,4 @@ INSTANTIATE_TEST_SUITE_P(PlainAndSealed, SitePeerHotPath, ::testing::Values("", 
                          });
 
 }  // namespace
-}  // namespace deixis::app
+}  // namespace deixis::site

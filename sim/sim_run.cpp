@@ -19,7 +19,6 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include "app/commands.h"
 #include "avatar/avatar_loader.h"
 #include "capture/virtual_user.h"
 #include "core/error.h"
@@ -38,7 +37,7 @@
 #include "sim/sim_views.h"
 #include "site/moe_weights.h"
 
-namespace deixis::app {
+namespace deixis::sim {
 
 namespace {
 
@@ -60,15 +59,15 @@ double ms_since(Clock::time_point t0) {
 }
 
 // The site's virtual user's subject and seed, or the demo's site-A subject.
-const capture::Subject& user_subject(const SiteConfig& a) {
+const capture::Subject& user_subject(const site::SiteConfig& a) {
   return capture::find_subject(a.virtual_user ? a.virtual_user->subject : "172");
 }
 
 // The avatar standing in the remote room and the translator + IK that drive it. Rebuilt when the
 // person loads another avatar (the solver must stay where the RemoteAvatar points).
 struct RemoteSide {
-  RemoteSide(const fs::path& glb, const BodyCalibration& user, const MoeNetworks& networks,
-             const SiteConfig& room)
+  RemoteSide(const fs::path& glb, const BodyCalibration& user, const site::MoeNetworks& networks,
+             const site::SiteConfig& room)
       : path(glb),
         avatar(avatar::load_avatar(glb)),
         solver(ik::AvatarSolver::build(avatar.rig)),
@@ -83,24 +82,25 @@ struct RemoteSide {
 
 // Everything read before the window opens; any error here is a bad input (exit 2).
 struct SimAssets {
-  SiteConfig a;
-  SiteConfig b;
+  site::SiteConfig a;
+  site::SiteConfig b;
   avatar::Avatar user_avatar;
   std::optional<ik::AvatarSolver> user_solver;
-  std::optional<MoeNetworks> networks;                      // the user's hand: the preview in B
-  std::optional<std::array<MoeNetworks, 2>> peer_networks;  // by the other's hand; none when
-                                                            // no session can start (--fixed-step)
-  std::unique_ptr<SimUser> user;                            // null with --script
+  std::optional<site::MoeNetworks> networks;  // the user's hand: the preview in B
+  std::optional<std::array<site::MoeNetworks, 2>>
+      peer_networks;              // by the other's hand; none when
+                                  // no session can start (--fixed-step)
+  std::unique_ptr<SimUser> user;  // null with --script
   std::optional<capture::ScriptPerformance> script;
   std::optional<ScriptedInput> input;
   BodyCalibration calibration;
   fs::path remote_avatar_path;
 };
 
-SimAssets load_assets(const SimOptions& o) {
+SimAssets load_assets(const sim::SimOptions& o) {
   SimAssets s;
-  s.a = read_site_config(o.site_a);
-  s.b = read_site_config(o.site_b);
+  s.a = site::read_site_config(o.site_a);
+  s.b = site::read_site_config(o.site_b);
   s.user_avatar = avatar::load_avatar(s.a.avatar_path);
   s.user_solver = ik::AvatarSolver::build(s.user_avatar.rig);
   const Pose partner = presence::avatar_origin(*s.user_solver, s.a.remote_avatar.T_world_floor());
@@ -108,7 +108,7 @@ SimAssets load_assets(const SimOptions& o) {
     if (!s.a.virtual_user) {
       throw Error(o.site_a.string() + ": virtual_user: missing (--script plays it)");
     }
-    const VirtualUser& v = *s.a.virtual_user;
+    const site::VirtualUser& v = *s.a.virtual_user;
     const capture::VirtualUserScene scene{s.a.user.T_world_floor(), s.a.target_map.objects,
                                           partner.translation};
     try {
@@ -125,11 +125,11 @@ SimAssets load_assets(const SimOptions& o) {
         SimUserScene{s.a.user.T_world_floor(), s.a.target_map.objects, partner.translation}, seed);
     s.calibration = s.user->calibration();
   }
-  s.networks.emplace(load_moe_networks(o.weights_dir, s.calibration.deictic_hand));
+  s.networks.emplace(site::load_moe_networks(o.weights_dir, s.calibration.deictic_hand));
   if (!o.fixed_step) {  // the flags' session, or one the panel may start
     s.peer_networks.emplace(
-        std::array<MoeNetworks, 2>{load_moe_networks(o.weights_dir, Hand::kLeft),
-                                   load_moe_networks(o.weights_dir, Hand::kRight)});
+        std::array<site::MoeNetworks, 2>{site::load_moe_networks(o.weights_dir, Hand::kLeft),
+                                         site::load_moe_networks(o.weights_dir, Hand::kRight)});
   }
   if (!o.input.empty()) {
     s.input.emplace(read_input_script(o.input));
@@ -150,7 +150,7 @@ render::DebugLine eye_ray(const Vec3& from, const Vec3& through, const Vec3& tar
 
 class Sim {
  public:
-  Sim(const SimOptions& o, SimAssets& a, render::WindowContext& window)
+  Sim(const sim::SimOptions& o, SimAssets& a, render::WindowContext& window)
       : o_(o),
         a_(a),
         window_(window),
@@ -174,8 +174,8 @@ class Sim {
     edits_.network = initial_network_form(o);
     find_widget_ = [this](std::string_view label) { return widget_centre(label); };
     if (o.network) {
-      start_network(SitePeerOptions{o.host ? net::Role::kHost : net::Role::kJoiner, o.address,
-                                    o.port, o.passphrase, o.wait});
+      start_network(site::SitePeerOptions{o.host ? net::Role::kHost : net::Role::kJoiner, o.address,
+                                          o.port, o.passphrase, o.wait});
     }
   }
 
@@ -203,10 +203,10 @@ class Sim {
   // from the panel switches time_ to it).
   bool fixed_step() const { return !o_.network && (o_.fixed_step || a_.input.has_value()); }
 
-  // A session, from the flags or the panel's form: the same SitePeer start, which never blocks
-  // (a host binds, a joiner sends its first packet; connecting is polled tick by tick). The
+  // A session, from the flags or the panel's form: the same site::SitePeer start, which never
+  // blocks (a host binds, a joiner sends its first packet; connecting is polled tick by tick). The
   // other person wears A's avatar, as the user's copy does.
-  void start_network(const SitePeerOptions& options) {
+  void start_network(const site::SitePeerOptions& options) {
     network_.reset();  // the last session, failed or left
     form_problem_.clear();
     network_.emplace(options, a_.a, a_.calibration, *a_.peer_networks, *a_.user_solver);
@@ -469,7 +469,7 @@ class Sim {
     if (!network_) {
       return 0;
     }
-    const SitePeerStats& n = network_->stats();
+    const site::SitePeerStats& n = network_->stats();
     std::printf(
         "network: site %s, tracking sent %llu, frames played %llu (%llu missed), their avatar "
         "visible in %llu ticks\n",
@@ -483,7 +483,7 @@ class Sim {
     if (!network_) {
       return {{"role", "local"}};
     }
-    const SitePeerStats& n = network_->stats();
+    const site::SitePeerStats& n = network_->stats();
     const presence::RemoteAvatar* other = network_->visible_avatar();
     return {{"role", network_panel_.role},
             {"port", network_panel_.port},
@@ -497,13 +497,13 @@ class Sim {
             {"error", network_->error()}};
   }
 
-  const SimOptions& o_;
+  const sim::SimOptions& o_;
   SimAssets& a_;
   render::WindowContext& window_;
   TargetMap remote_map_;  // B's objects as they stand now (dragged in place)
   RoomView local_;
   RoomView remote_view_;
-  CopiedAvatar user_copy_;
+  presence::CopiedAvatar user_copy_;
   render::SkinnedMeshId user_mesh_;
   SimControls controls_;
   ImGuiLayer imgui_;
@@ -557,4 +557,4 @@ int run_sim(const SimOptions& o) {
   }
 }
 
-}  // namespace deixis::app
+}  // namespace deixis::sim
