@@ -14,7 +14,6 @@
 #include "capture/subject.h"
 #include "capture/virtual_user.h"
 #include "core/error.h"
-#include "presence/remote_avatar.h"
 #include "site/scripted_site.h"
 
 namespace deixis::app {

@@ -130,18 +130,19 @@ std::set<std::string> closure(const Tree& tree, const std::string& name) {
   return seen;
 }
 
-bool links_folder(const Tree& tree, const std::string& target, const std::string& folder) {
-  const auto libraries = tree.libraries_of_folder.find(folder);
-  if (libraries == tree.libraries_of_folder.end()) {
-    return false;
-  }
+bool links_any(const Tree& tree, const std::string& target, const std::vector<std::string>& any) {
   const std::set<std::string> reach = closure(tree, target);
-  for (const std::string& library : libraries->second) {
+  for (const std::string& library : any) {
     if (reach.contains(library)) {
       return true;
     }
   }
   return false;
+}
+
+bool links_folder(const Tree& tree, const std::string& target, const std::string& folder) {
+  const auto libraries = tree.libraries_of_folder.find(folder);
+  return libraries != tree.libraries_of_folder.end() && links_any(tree, target, libraries->second);
 }
 
 // The targets that compile the header's own .cpp (core/target_map.cpp for core/target_map.h):
@@ -151,16 +152,6 @@ std::vector<std::string> owners_of_header(const Tree& tree, const std::string& p
   source.replace_extension(".cpp");
   const auto found = tree.targets_of_source.find(source.lexically_normal());
   return found == tree.targets_of_source.end() ? std::vector<std::string>{} : found->second;
-}
-
-bool links_any(const Tree& tree, const std::string& target, const std::vector<std::string>& any) {
-  const std::set<std::string> reach = closure(tree, target);
-  for (const std::string& library : any) {
-    if (reach.contains(library)) {
-      return true;
-    }
-  }
-  return false;
 }
 
 bool skipped_directory(const fs::path& path) {
