@@ -20,6 +20,10 @@ std::string_view message_name(std::uint8_t type) {
       return "heartbeat";
     case MessageType::kBye:
       return "bye";
+    case MessageType::kAvatarRequest:
+      return "avatar request";
+    case MessageType::kAvatarData:
+      return "avatar data";
     case MessageType::kTracking:
       return "tracking";
     case MessageType::kSealed:

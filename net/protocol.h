@@ -30,8 +30,10 @@ enum class MessageType : std::uint8_t {
   kTargetMap = 0x05,  // reliable: the sender's room
   kHeartbeat = 0x06,  // reliable: "still here"
   kBye = 0x07,        // reliable: leaving, or refusing, with a reason
-  kTracking = 0x10,   // tracking channel: one tracking frame
-  kSealed = 0x20,     // either channel: an encrypted, authenticated packet (passphrase sessions)
+  kAvatarRequest = 0x08,  // reliable: "send me the avatar file with this hash"
+  kAvatarData = 0x09,     // reliable: one chunk of the sender's avatar file
+  kTracking = 0x10,       // tracking channel: one tracking frame
+  kSealed = 0x20,  // either channel: an encrypted, authenticated packet (passphrase sessions)
 };
 std::string_view message_name(std::uint8_t type);  // "hello", ..., "unknown"
 bool is_known_type(std::uint8_t type);

@@ -93,6 +93,12 @@ Session::Session(Link& link, SessionConfig config)
       padded_tx_(kMaxPacketBytes),
       sealed_tx_(kSealedBufferBytes),
       plain_rx_(kMaxPacketBytes) {
+  if (config_.avatar_file) {
+    // Our hello names the file by its hash: a peer that has it cached never asks for it.
+    avatar_tx_ = AvatarSender(*config_.avatar_file, "session: our avatar file");
+    config_.hello.avatar.model = avatar_tx_.model();
+    avatar_chunk_tx_.resize(kAvatarDataHeaderBytes + kAvatarChunkMaxBytes);
+  }
   if (WireResult e = encode(config_.hello, hello_bytes_); !e.ok()) {
     throw Error(wire_message("session: our hello", e));
   }
@@ -242,6 +248,7 @@ void Session::timers(double now) {
         send_reliable(bytes);
         next_heartbeat_ = now + config_.heartbeat_interval;
       }
+      send_avatar_chunks(now);
       break;
     case SessionState::kIdle:
     case SessionState::kRefused:
@@ -480,6 +487,8 @@ void Session::end_connection(EndCause cause, double now) {
   opener_.reset();
   exchange_keys_.reset();
   jitter_.reset();
+  avatar_tx_.forget(0);
+  avatar_rx_.reset();
   if (is_host()) {
     status_.state = SessionState::kWaiting;
   } else {
@@ -931,6 +940,16 @@ void Session::dispatch(Channel channel, std::span<const std::byte> packet, doubl
       return accept<Heartbeat>(channel, packet, serving(), now, [&](Heartbeat&&) { heard(); });
     case MessageType::kBye:
       return accept<Bye>(channel, packet, connected(), now, [&](Bye&& m) { on_bye(m, now); });
+    case MessageType::kAvatarRequest:
+      return accept<AvatarRequest>(channel, packet, serving(), now, [&](AvatarRequest&& m) {
+        heard();
+        on_avatar_request(m, channel, packet, now);
+      });
+    case MessageType::kAvatarData:
+      return accept<AvatarData>(channel, packet, serving(), now, [&](AvatarData&& m) {
+        heard();
+        on_avatar_data(m, channel, packet, now);
+      });
     case MessageType::kTracking:  // streaming only, into a preallocated message (on_tracking)
       return on_tracking(channel, packet, now);
     case MessageType::kSealed:  // dropped above
@@ -951,6 +970,69 @@ void Session::on_tracking(Channel channel, std::span<const std::byte> packet, do
   status_.last_heard = now;
   ++stats_.tracking_received;
   jitter_.push(tracking_rx_.sequence, tracking_rx_.frame, now);
+}
+
+// ---------------------------------------------------------------- avatar files
+
+std::optional<AvatarHash> Session::remote_avatar_hash() const {
+  return remote_hello_ ? parse_avatar_hash(remote_hello_->avatar.model) : std::nullopt;
+}
+
+bool Session::request_avatar(double now) {
+  const std::optional<AvatarHash> hash = remote_avatar_hash();
+  if (!hash || !serving()) {
+    return false;
+  }
+  std::array<std::byte, kAvatarRequestBytes> bytes{};
+  encode(AvatarRequest{*hash}, bytes);
+  avatar_rx_.expect(*hash);
+  log().info("net: asking {} for their avatar file {}", peer_name(), to_hex(*hash).substr(0, 12));
+  (void)now;
+  return send_reliable(bytes);
+}
+
+void Session::on_avatar_request(const AvatarRequest& m, Channel channel,
+                                std::span<const std::byte> packet, double now) {
+  // One transfer per connection: the sender keys it by a constant, the connection being the
+  // session's one served peer.
+  if (!avatar_tx_.on_request(0, m.hash, now)) {
+    drop(channel, packet, wire_error(DropReason::kUnexpected, "avatar_request.hash"), now);
+    return;
+  }
+  ++stats_.avatar_requests_received;
+}
+
+void Session::on_avatar_data(const AvatarData& m, Channel channel,
+                             std::span<const std::byte> packet, double now) {
+  const AvatarReceiveStatus before = avatar_rx_.status();
+  if (!avatar_rx_.on_data(m)) {
+    drop(channel, packet, wire_error(DropReason::kUnexpected, "avatar_data.hash"), now);
+    return;
+  }
+  ++stats_.avatar_chunks_received;
+  if (before != AvatarReceiveStatus::kFailed &&
+      avatar_rx_.status() == AvatarReceiveStatus::kFailed) {
+    log().warn("net: the avatar file from {} was abandoned: {}", peer_name(), avatar_rx_.failure());
+  }
+}
+
+void Session::send_avatar_chunks(double now) {
+  if (!avatar_tx_.has_file() || status_.state != SessionState::kStreaming) {
+    return;
+  }
+  // A few chunks at most per call; the sender's pace decides when each is due.
+  for (int i = 0; i < 4; ++i) {
+    const std::optional<AvatarData> chunk = avatar_tx_.next_chunk(0, now);
+    if (!chunk) {
+      return;
+    }
+    const std::size_t n = encode(*chunk, avatar_chunk_tx_);
+    if (n == 0 || !send_reliable(std::span(avatar_chunk_tx_).first(n))) {
+      avatar_tx_.forget(0);
+      return;
+    }
+    ++stats_.avatar_chunks_sent;
+  }
 }
 
 // ---------------------------------------------------------------- joiner's handshake

@@ -38,6 +38,7 @@
 #include <string_view>
 #include <vector>
 
+#include "net/avatar_transfer.h"
 #include "net/drop_log.h"
 #include "net/jitter_buffer.h"
 #include "net/key_derivation.h"
@@ -80,10 +81,11 @@ enum class EndCause : std::uint8_t {
 std::string_view end_cause_name(EndCause cause);
 
 // What one peer may send per second (docs/security.md): a token bucket of `burst_seconds` worth.
-// Tracking at 30 Hz, heartbeats and an occasional target map use about a third of it.
+// Tracking at 30 Hz, heartbeats and an occasional target map use about a third of the packets; an
+// avatar file in transfer (net/avatar_transfer.h, paced at 128 KiB a second) half of the bytes.
 struct PeerBudget {
   double packets_per_second = 120.0;
-  double bytes_per_second = 64.0 * 1024.0;
+  double bytes_per_second = 256.0 * 1024.0;
   double burst_seconds = 2.0;
 };
 
@@ -113,6 +115,9 @@ struct SessionConfig {
   PeerBudget budget;
   JitterConfig jitter;
   std::shared_ptr<spdlog::logger> logger;  // null: spdlog's default logger
+  // The avatar file our person chose, sent to a peer that asks for it (net/avatar_transfer.h);
+  // the session names it in our hello by its hash. Null: the hello names none.
+  std::shared_ptr<const std::vector<std::byte>> avatar_file;
 };
 
 struct PeerStatus {
@@ -150,8 +155,11 @@ struct SessionStats {
   std::uint64_t tracking_received = 0;  // decoded and handed to the jitter buffer
   std::uint64_t parts_not_sent = 0;     // tracked parts the encoder could not represent
   std::uint64_t target_maps_received = 0;
-  std::uint64_t floods_cut = 0;       // peers cut off for exceeding their budget
-  std::uint64_t service_bounded = 0;  // service() calls that left events for the next one
+  std::uint64_t floods_cut = 0;                // peers cut off for exceeding their budget
+  std::uint64_t service_bounded = 0;           // service() calls that left events for the next one
+  std::uint64_t avatar_requests_received = 0;  // for our file
+  std::uint64_t avatar_chunks_sent = 0;
+  std::uint64_t avatar_chunks_received = 0;  // taken by the download
 };
 
 class Session {
@@ -194,6 +202,13 @@ class Session {
   const JitterStats& jitter() const { return jitter_.stats(); }
   const SessionConfig& config() const { return config_; }
   bool sealed() const { return sealer_.has_value(); }  // this connection's packets are sealed
+
+  // The avatar file the peer's hello names (nullopt: none, the receiving site chooses).
+  std::optional<AvatarHash> remote_avatar_hash() const;
+  // Asks the peer for that file (a site whose cache lacks it); false when there is none to ask
+  // for or we are not past the hello exchange. The download then fills avatar_download().
+  bool request_avatar(double now);
+  const AvatarReceiver& avatar_download() const { return avatar_rx_; }
 
  private:
   // Host: a stranger in its handshake, until its join is verified (then it is served or told
@@ -275,6 +290,11 @@ class Session {
   void on_hello(Hello&& m, double now);
   void on_bye(const Bye& m, double now);
   void on_tracking(Channel channel, std::span<const std::byte> packet, double now);
+  void on_avatar_request(const AvatarRequest& m, Channel channel, std::span<const std::byte> packet,
+                         double now);
+  void on_avatar_data(const AvatarData& m, Channel channel, std::span<const std::byte> packet,
+                      double now);
+  void send_avatar_chunks(double now);
 
   // Transitions.
   void label_peer(PeerId peer);
@@ -335,9 +355,12 @@ class Session {
   double reconnect_delay_ = 0.0;
   std::optional<Hello> remote_hello_;
   std::optional<TargetMap> remote_map_;
+  AvatarSender avatar_tx_;    // our file, if we have one
+  AvatarReceiver avatar_rx_;  // the peer's, when requested
 
   // Preallocated buffers: streaming touches nothing else.
   std::array<std::byte, kTrackingBytes> tracking_tx_{};
+  std::vector<std::byte> avatar_chunk_tx_;  // one avatar-data packet
   std::vector<std::byte> padded_tx_;
   std::vector<std::byte> sealed_tx_;
   std::vector<std::byte> plain_rx_;

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <functional>
 
+#include "net/avatar_transfer.h"
 #include "net/messages.h"
 #include "net/tracking_codec.h"
 #include "net_fixtures.h"
@@ -59,6 +60,18 @@ Bytes heartbeat_bytes() {
 Bytes bye_bytes() {
   Bytes b(kByeBytes);
   encode(Bye{}, b);
+  return b;
+}
+
+Bytes avatar_request_bytes() {
+  Bytes b(kAvatarRequestBytes);
+  encode(AvatarRequest{}, b);
+  return b;
+}
+Bytes avatar_data_bytes() {
+  const Bytes chunk(100, std::byte{7});
+  Bytes b(kAvatarDataHeaderBytes + chunk.size());
+  encode(AvatarData{{}, 1000, 0, chunk}, b);
   return b;
 }
 
@@ -210,6 +223,18 @@ std::vector<Case> cases() {
       {"accept trailing bytes", R,
        with(accept_bytes(), [](Bytes& b) { b.push_back(std::byte{0}); }), D::kTrailingBytes,
        D::kUnexpected},
+      {"avatar request with trailing bytes", R,
+       with(avatar_request_bytes(), [](Bytes& b) { b.push_back(std::byte{0}); }), D::kTrailingBytes,
+       D::kTrailingBytes},
+      {"avatar data past the end of its file", R,
+       with(avatar_data_bytes(), [](Bytes& b) { put_u32(b, 37, 950); }), D::kOutOfRange,
+       D::kOutOfRange},
+      {"avatar data of a file beyond the size limit", R,
+       with(avatar_data_bytes(), [](Bytes& b) { put_u32(b, 33, kAvatarFileMaxBytes + 1); }),
+       D::kOutOfRange, D::kOutOfRange},
+      {"avatar request for a file we do not have", R, avatar_request_bytes(), D::kNone,
+       D::kUnexpected},
+      {"avatar data nobody asked for", R, avatar_data_bytes(), D::kNone, D::kUnexpected},
       {"sealed packet in an open session", T,
        Bytes(30, std::byte{static_cast<unsigned char>(MessageType::kSealed)}), D::kNone,
        D::kUnexpected},
@@ -250,6 +275,14 @@ DropReason decode_as_typed(const Bytes& p) {
       Bye m;
       return decode(p, m).reason;
     }
+    case MessageType::kAvatarRequest: {
+      AvatarRequest m;
+      return decode(p, m).reason;
+    }
+    case MessageType::kAvatarData: {
+      AvatarData m;
+      return decode(p, m).reason;
+    }
     case MessageType::kTracking: {
       TrackingMessage m;
       return decode_tracking(p, kRoot, m).reason;
@@ -261,8 +294,9 @@ DropReason decode_as_typed(const Bytes& p) {
 }
 
 TEST(Malformed, TheValidPacketsTheTableStartsFromDecode) {
-  for (const Bytes& p : {tracking_bytes(), hello_bytes(), map_bytes(), welcome_bytes(),
-                         join_bytes(), accept_bytes(), heartbeat_bytes(), bye_bytes()}) {
+  for (const Bytes& p :
+       {tracking_bytes(), hello_bytes(), map_bytes(), welcome_bytes(), join_bytes(), accept_bytes(),
+        heartbeat_bytes(), bye_bytes(), avatar_request_bytes(), avatar_data_bytes()}) {
     EXPECT_EQ(decode_as_typed(p), DropReason::kNone)
         << message_name(std::to_integer<std::uint8_t>(p[0]));
   }
