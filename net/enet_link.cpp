@@ -49,9 +49,9 @@ void close_host(ENetHost* host) {
   enet_host_destroy(host);
 }
 
-// PeerId: the slot's index + 1 in the low 7 bits, the connection's generation above.
-constexpr std::uint32_t kIndexBits = 7;
-static_assert(kMaxHostPeers < (1u << kIndexBits));
+// PeerId: the slot's index + 1 in the low 11 bits, the connection's generation above.
+constexpr std::uint32_t kIndexBits = 11;
+static_assert(kMaxLinkPeers < (1u << kIndexBits));
 
 PeerId make_id(std::size_t index, std::uint32_t generation) {
   const std::uint32_t g = generation & ((1u << (32 - kIndexBits)) - 1u);
@@ -64,16 +64,22 @@ std::size_t index_of(PeerId id) {
 
 }  // namespace
 
-std::unique_ptr<EnetLink> EnetLink::host(const std::string& bind_address, std::uint16_t port) {
+std::unique_ptr<EnetLink> EnetLink::host(const std::string& bind_address, std::uint16_t port,
+                                         const HostLimits& limits) {
   initialise_enet();
   const ENetAddress address = resolve(bind_address, port);
+  if (limits.max_peers == 0 || limits.max_peers > kMaxLinkPeers ||
+      limits.max_peers_per_address == 0) {
+    throw Error("net: a host holds 1 to " + std::to_string(kMaxLinkPeers) + " peers");
+  }
   // Room for the peer in session and for strangers in their handshake (docs/protocol.md §6).
-  ENetHost* host = enet_host_create(&address, kMaxHostPeers, kChannelCount, 0, 0);
+  ENetHost* host = enet_host_create(&address, limits.max_peers, kChannelCount, 0, 0);
   if (host == nullptr) {
     throw Error("net: cannot listen on " + bind_address + ":" + std::to_string(port) +
                 " (port in use?)");
   }
   apply_limits(host);
+  host->duplicatePeers = limits.max_peers_per_address;
   return std::unique_ptr<EnetLink>(new EnetLink(host, true, 0, 0, 0));
 }
 

@@ -30,12 +30,21 @@ namespace deixis::net {
 inline constexpr std::size_t kMaxWaitingBytes = 256 * 1024;
 inline constexpr std::size_t kMaxHostPeers = 64;
 inline constexpr std::size_t kMaxPeersPerAddress = 8;
+// A relay (docs/relay.md) serves many rooms from one host: it asks for more peers.
+inline constexpr std::size_t kMaxLinkPeers = 2047;
+
+// How many peers a host holds, and how many from one network address (ENet enforces both).
+struct HostLimits {
+  std::size_t max_peers = kMaxHostPeers;  // at most kMaxLinkPeers
+  std::size_t max_peers_per_address = kMaxPeersPerAddress;
+};
 
 class EnetLink : public Link {
  public:
   // Listens on `port` of `bind_address` ("0.0.0.0", "127.0.0.1"); port 0 picks a free one (see
   // port()). Throws deixis::Error when the address is invalid or the port cannot be bound.
-  static std::unique_ptr<EnetLink> host(const std::string& bind_address, std::uint16_t port);
+  static std::unique_ptr<EnetLink> host(const std::string& bind_address, std::uint16_t port,
+                                        const HostLimits& limits = {});
   // Connects to `address`:`port` on each connect(), from `local_address` (default: any; tests
   // use another loopback address to play a stranger on another machine). Throws deixis::Error
   // for an unresolvable address.
