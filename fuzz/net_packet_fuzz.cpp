@@ -16,6 +16,7 @@
 #include <span>
 #include <vector>
 
+#include "core/target_map.h"
 #include "net/messages.h"
 #include "net/quantize.h"
 #include "net/tracking_codec.h"
@@ -102,7 +103,8 @@ void check_tracking(std::span<const std::byte> input) {
   check(finite(f), "an accepted frame is finite");
   check((f.valid & ~tracked::kAll) == 0, "only known validity bits");
   for (const TargetId id : {f.head_target, f.hand_target}) {
-    check(id >= kNoTarget && id <= kMaxTargetIdOnWire, "target ids in range");
+    check((id >= kNoTarget && id <= kMaxTargetIdOnWire) || is_person_target(id),
+          "target ids in range");
   }
   check(std::abs(f.gaze.norm() - 1.0f) < 1e-5f, "gaze is a unit vector");
   for (const Pose* p : {&f.T_world_head, &f.T_world_wrist[0], &f.T_world_wrist[1]}) {

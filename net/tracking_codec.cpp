@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/target_map.h"
 #include "net/quantize.h"
 #include "net/wire.h"
 
@@ -80,13 +81,19 @@ struct PartEncoder {
   }
 };
 
+// −1 none, 0 the other person, 1–1,000,000 an object, 1,000,001–1,000,254 a person of a room
+// (docs/protocol.md §4.8, core/target_map.h).
+bool is_target_on_wire(std::int32_t id) {
+  return (id >= kNoTarget && id <= kMaxTargetIdOnWire) || is_person_target(id);
+}
+
 struct TargetOnWire {
   std::int32_t id = kNoTarget;
   QuantizedPosition position{};
 };
 
 TargetOnWire target_on_wire(TargetId id, const Vec3& position, const Vec3& root) {
-  if (id < kNoTarget || id > kMaxTargetIdOnWire) {
+  if (!is_target_on_wire(id)) {
     return {};
   }
   if (id == kNoTarget) {
@@ -169,7 +176,7 @@ WireResult read_target(WireReader& r, TargetId& id, const char* field) {
   if (!r.i32(v)) {
     return wire_error(DropReason::kTruncated, field);
   }
-  if (v < kNoTarget || v > kMaxTargetIdOnWire) {
+  if (!is_target_on_wire(v)) {
     return wire_error(DropReason::kOutOfRange, field);
   }
   id = v;

@@ -129,7 +129,7 @@ std::vector<Case> cases() {
        D::kTrailingBytes, D::kTrailingBytes},
       {"tracking unknown validity bits", T, with(t, [](Bytes& b) { b[9] |= std::byte{0x10}; }),
        D::kOutOfRange, D::kOutOfRange},
-      {"tracking head target id too large", T, with(t, [](Bytes& b) { put_u32(b, 62, 1'000'001); }),
+      {"tracking head target id too large", T, with(t, [](Bytes& b) { put_u32(b, 62, 1'000'255); }),
        D::kOutOfRange, D::kOutOfRange},
       {"tracking hand target id below -1", T, with(t, [](Bytes& b) { put_u32(b, 66, 0xFFFFFFFE); }),
        D::kOutOfRange, D::kOutOfRange},
