@@ -73,6 +73,9 @@ class FakeRelay {
 
   explicit FakeRelay(std::uint64_t seed = 1) : random_(seed) {
     items_.resize(4096);
+    for (Item& it : items_) {
+      it.bytes.reserve(1024);  // a sealed tracking frame, heartbeat or padded hello fits
+    }
     due_.reserve(items_.size());
   }
 
