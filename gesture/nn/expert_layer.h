@@ -10,6 +10,8 @@
 
 #include <string>
 
+#include "gesture/nn/activations.h"
+#include "gesture/nn/batch.h"
 #include "gesture/nn/panel_order.h"
 #include "gesture/nn/params.h"
 
@@ -71,6 +73,48 @@ struct ExpertLayer {
     y.noalias() += bias.view() * omega;
     return y;
   }
+
+  // run() for `count` people (batch.h): row r of y (count × Out, rows contiguous) =
+  // Σ_e ω_r,e (x_r·W_e + b_e), with x_r at x + r·ldx and ω_r at omega + r·Experts. All experts'
+  // products for the whole batch are one matrix product per panel, each panel read once for
+  // everyone; then each person's experts are blended with their own ω. `all` is working memory of
+  // count × kAll floats.
+  void run_batch(const float* x, std::size_t ldx, const float* omega, int count, float* all,
+                 float* y) const noexcept {
+    for (int p = 0; p < kPanels; ++p) {
+      multiply_rows(x, ldx, panels.data() + static_cast<std::size_t>(p) * In * kPanel, kPanel,
+                    all + p * kPanel, kAll, count, In, kPanel);
+    }
+    using Omega = Eigen::Matrix<float, Experts, 1>;
+    for (int r = 0; r < count; ++r) {
+      const Eigen::Map<const Eigen::Matrix<float, Out, Experts>> per_expert(
+          all + static_cast<std::size_t>(r) * kAll);
+      const Eigen::Map<const Omega> w(omega + static_cast<std::size_t>(r) * Experts);
+      Eigen::Map<Eigen::Matrix<float, Out, 1>> yr(y + static_cast<std::size_t>(r) * Out);
+      yr.noalias() = per_expert * w;
+      yr.noalias() += bias.view() * w;
+    }
+  }
 };
+
+// The MoE networks' three expert layers with ELU between, for `count` people
+// (ExpertLayer::run_batch): x (count × In, row r at x + r·ldx) → y (count × Out). `all`, `h1` and
+// `h2` are working memory of count × (the largest layer's kAll), count × Hidden and count × Hidden
+// floats.
+template <int Experts, int In, int Hidden, int Out>
+void run_experts_batch(const ExpertLayer<Experts, In, Hidden>& l1,
+                       const ExpertLayer<Experts, Hidden, Hidden>& l2,
+                       const ExpertLayer<Experts, Hidden, Out>& l3, const float* x, std::size_t ldx,
+                       const float* omega, int count, float* all, float* h1, float* h2,
+                       float* y) noexcept {
+  using Rows = Eigen::Matrix<float, Eigen::Dynamic, Hidden, Eigen::RowMajor>;
+  l1.run_batch(x, ldx, omega, count, all, h1);
+  Eigen::Map<Rows> a1(h1, count, Hidden);
+  elu_inplace(a1);
+  l2.run_batch(h1, Hidden, omega, count, all, h2);
+  Eigen::Map<Rows> a2(h2, count, Hidden);
+  elu_inplace(a2);
+  l3.run_batch(h2, Hidden, omega, count, all, y);
+}
 
 }  // namespace deixis::nn

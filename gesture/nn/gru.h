@@ -11,6 +11,7 @@
 #include <string>
 
 #include "gesture/nn/activations.h"
+#include "gesture/nn/batch.h"
 #include "gesture/nn/params.h"
 
 namespace deixis::nn {
@@ -66,6 +67,12 @@ struct GruLayer {
   void step(const ProjectionRow& gi, State& h) const {
     Eigen::Matrix<float, kGates, 1> gh = bias_hh.view();
     gh.noalias() += weight_hh_by_column.view().transpose().lazyProduct(h);
+    gates(gi, gh, h);
+  }
+
+  // The rest of a step once both projections are known: gi = W_ih·x + b_ih, gh = W_hh·h + b_hh.
+  template <typename ProjectionRow, typename HiddenProjection, typename StateVector>
+  static void gates(const ProjectionRow& gi, const HiddenProjection& gh, StateVector&& h) {
     // The gates as whole vectors, through Eigen's vectorised logistic and tanh (accurate to a few
     // ulp; PyTorch's own CPU kernels are vectorised approximations too).
     const Eigen::Array<float, 2 * Hidden, 1> rz =
@@ -75,6 +82,34 @@ struct GruLayer {
                         .tanh()
                         .matrix();
     h = n + (rz.template tail<Hidden>() * (h - n).array()).matrix();
+  }
+
+  // Batches (batch.h): `count` people at once, one row each.
+  //
+  // W_ih·x + b_ih of `count` inputs into gi (count × 3·Hidden, rows contiguous); input r starts
+  // at x + r·ldx.
+  void project_inputs_batch(const float* x, std::size_t ldx, int count, float* gi) const noexcept {
+    multiply_rows(x, ldx, weight_ih_by_column.storage().data(), kGates, gi, kGates, count, In,
+                  kGates);
+    for (int r = 0; r < count; ++r) {
+      Eigen::Map<Eigen::Matrix<float, kGates, 1>>(gi + static_cast<std::size_t>(r) * kGates) +=
+          bias_ih.view();
+    }
+  }
+
+  // One recurrence step of `count` people: row r of h (count × Hidden, rows contiguous) ←
+  // GRU(h_r, x_r) given x_r's input projection at gi + r·ldgi. `gh` is working memory of
+  // count × 3·Hidden floats.
+  void step_batch(const float* gi, std::size_t ldgi, float* h, float* gh,
+                  int count) const noexcept {
+    multiply_rows(h, Hidden, weight_hh_by_column.storage().data(), kGates, gh, kGates, count,
+                  Hidden, kGates);
+    for (int r = 0; r < count; ++r) {
+      Eigen::Map<Eigen::Matrix<float, kGates, 1>> ghr(gh + static_cast<std::size_t>(r) * kGates);
+      ghr += bias_hh.view();
+      gates(Eigen::Map<const Eigen::Matrix<float, kGates, 1>>(gi + r * ldgi), ghr,
+            Eigen::Map<State>(h + static_cast<std::size_t>(r) * Hidden));
+    }
   }
 
   // Runs over the rows of `inputs` (Steps × In) from h = 0 and writes every step's hidden state
@@ -89,5 +124,18 @@ struct GruLayer {
     }
   }
 };
+
+// One step of a 2-layer GRU for `count` people, layer 2 fed with layer 1's new state (the MoE
+// networks' gating): h0 ← layer0(h0, gi0 row r at gi0 + r·ldgi0), h1 ← layer1(h1, h0). `gi1` and
+// `gh` are working memory of count × 3·Hidden floats each.
+template <int In, int Hidden>
+void step_two_layers_batch(const GruLayer<In, Hidden>& layer0,
+                           const GruLayer<Hidden, Hidden>& layer1, const float* gi0,
+                           std::size_t ldgi0, float* h0, float* h1, float* gi1, float* gh,
+                           int count) noexcept {
+  layer0.step_batch(gi0, ldgi0, h0, gh, count);
+  layer1.project_inputs_batch(h0, Hidden, count, gi1);
+  layer1.step_batch(gi1, 3 * Hidden, h1, gh, count);
+}
 
 }  // namespace deixis::nn

@@ -1,5 +1,7 @@
 #include "gesture/nn/mpnet.h"
 
+#include <stdexcept>
+#include <string>
 #include <variant>
 
 #include "core/error.h"
@@ -73,6 +75,28 @@ MpnetOutput Mpnet::run(MpnetWindow window, MpnetTrace* trace) const noexcept {
         }
       },
       networks_->net);
+}
+
+void Mpnet::run_batch(std::span<const float> windows, std::span<MpnetOutput> out,
+                      BatchBuffers& buffers) const {
+  if (windows.size() != out.size() * kMpnetWindowSize) {
+    throw std::invalid_argument("Mpnet::run_batch: " + std::to_string(windows.size()) +
+                                " window values for " + std::to_string(out.size()) +
+                                " outputs (windows of " + std::to_string(kMpnetWindowSize) + ")");
+  }
+  if (const auto* moe = std::get_if<MpnetGruMoe>(&networks_->net)) {
+    moe->run_batch(windows.data(), static_cast<int>(out.size()), out.data(), buffers);
+    return;
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i] = run(MpnetWindow(windows.subspan(i * kMpnetWindowSize, kMpnetWindowSize)));
+  }
+}
+
+void Mpnet::reserve_batch(std::size_t count, BatchBuffers& buffers) const {
+  if (std::holds_alternative<MpnetGruMoe>(networks_->net)) {
+    MpnetGruMoe::reserve_batch(static_cast<int>(count), buffers);
+  }
 }
 
 }  // namespace deixis::nn

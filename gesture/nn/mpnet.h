@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "core/io/safetensors.h"
+#include "gesture/nn/batch.h"
 #include "gesture/nn/shapes.h"
 
 namespace deixis::nn {
@@ -40,6 +41,18 @@ class Mpnet {
   std::size_t parameter_count() const;
 
   MpnetOutput run(MpnetWindow window, MpnetTrace* trace = nullptr) const noexcept;
+
+  // run() on `out.size()` windows at once, e.g. one per remote person of a site
+  // (presence::tick_people): window i is windows[i·kMpnetWindowSize …]. The GRU-MoE runs them as
+  // one batch (batch.h; its results equal run()'s to float rounding, within 1e-5); the MLP and
+  // Transformer call run() per window. Allocates nothing once `buffers` has held a batch this
+  // large (reserve_batch). Sizes that do not fit together throw std::invalid_argument.
+  void run_batch(std::span<const float> windows, std::span<MpnetOutput> out,
+                 BatchBuffers& buffers) const;
+  void reserve_batch(std::size_t count, BatchBuffers& buffers) const;
+
+  // Whether both handles run the same loaded weights (a batch holds one network's windows).
+  bool same_weights(const Mpnet& other) const { return networks_ == other.networks_; }
 
   struct Networks;  // the loaded weights of one architecture (mpnet.cpp)
 

@@ -29,6 +29,11 @@ struct MpnetGruMoe {
   static bool recognises(const SafetensorsFile& file);
   void load(const SafetensorsFile& file);
   MpnetOutput run(MpnetWindow window, MpnetTrace* trace) const;
+  // run() on `count` windows stored one after another (Mpnet::run_batch): the three GRUs stepped
+  // for everyone at once and the experts' products for the whole batch as matrix products.
+  void run_batch(const float* windows, int count, MpnetOutput* out, BatchBuffers& buffers) const;
+  // Sizes `buffers` for batches of up to `count` windows.
+  static void reserve_batch(int count, BatchBuffers& buffers);
   static constexpr std::size_t kParameters = 8091;
 };
 

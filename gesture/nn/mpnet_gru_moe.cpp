@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include "gesture/nn/mpnet_architectures.h"
 
 namespace deixis::nn {
@@ -48,6 +50,83 @@ MpnetOutput MpnetGruMoe::run(MpnetWindow window, MpnetTrace* trace) const {
     Eigen::Map<Eigen::Matrix<float, kRecurrentHidden, 1>>(trace->z.data()) = z;
   }
   return clamp_progression(y);
+}
+
+namespace {
+
+// The working memory of a batch of `count` windows, in BatchBuffers' slots (one layout for
+// run_batch and reserve_batch).
+struct MpnetBatchMemory {
+  static constexpr int kExperts = MpnetGruMoe::kExperts;
+  static constexpr int kHidden = MpnetGruMoe::kRecurrentHidden;
+  float* gi_gating;     // count·30 × 27: gating layer 1's input projections, window by window
+  float* gi_recurrent;  // count·30 × 72
+  float* gi_gating_l1;  // count × 27: gating layer 2's input projection of this step
+  float* gh;            // count × 72: hidden projections of the step being taken
+  float* gating_h0;     // count × 9
+  float* omega;         // count × 9: gating layer 2's state, then its softmax
+  float* z;             // count × 24: the recurrent module's state
+  float* all;           // count × 108: every expert's outputs of one layer
+  float* h1;            // count × 12
+  float* h2;            // count × 12
+  float* y;             // count × 3
+
+  MpnetBatchMemory(BatchBuffers& buffers, int count) {
+    const auto n = static_cast<std::size_t>(count);
+    const auto rows = n * kWindowRows;
+    gi_gating = buffers.get(0, rows * 3 * kExperts).data();
+    gi_recurrent = buffers.get(1, rows * 3 * kHidden).data();
+    gi_gating_l1 = buffers.get(2, n * 3 * kExperts).data();
+    gh = buffers.get(3, n * 3 * kHidden).data();
+    gating_h0 = buffers.get(4, n * kExperts).data();
+    omega = buffers.get(5, n * kExperts).data();
+    z = buffers.get(6, n * kHidden).data();
+    all = buffers.get(7, n * kExperts * MpnetGruMoe::kExpertHidden).data();
+    h1 = buffers.get(8, n * MpnetGruMoe::kExpertHidden).data();
+    h2 = buffers.get(9, n * MpnetGruMoe::kExpertHidden).data();
+    y = buffers.get(10, n * kProgressionSize).data();
+  }
+};
+
+}  // namespace
+
+void MpnetGruMoe::reserve_batch(int count, BatchBuffers& buffers) {
+  const MpnetBatchMemory sized(buffers, count);
+}
+
+void MpnetGruMoe::run_batch(const float* windows, int count, MpnetOutput* out,
+                            BatchBuffers& buffers) const {
+  if (count <= 0) {
+    return;
+  }
+  const MpnetBatchMemory m(buffers, count);
+  const auto n = static_cast<std::size_t>(count);
+  // Every row of every window projected at once: rows of consecutive windows are consecutive.
+  gating_l0.project_inputs_batch(windows + kMpnetTargetColumn, kMpnetFeatures, count * kWindowRows,
+                                 m.gi_gating);
+  recurrent.project_inputs_batch(windows, kMpnetFeatures, count * kWindowRows, m.gi_recurrent);
+  std::fill_n(m.gating_h0, n * kExperts, 0.0f);
+  std::fill_n(m.omega, n * kExperts, 0.0f);
+  std::fill_n(m.z, n * kRecurrentHidden, 0.0f);
+  constexpr std::size_t kGatingStride = kWindowRows * 3 * kExperts;
+  constexpr std::size_t kRecurrentStride = kWindowRows * 3 * kRecurrentHidden;
+  for (int t = 0; t < kWindowRows; ++t) {
+    step_two_layers_batch(gating_l0, gating_l1, m.gi_gating + t * 3 * kExperts, kGatingStride,
+                          m.gating_h0, m.omega, m.gi_gating_l1, m.gh, count);
+    recurrent.step_batch(m.gi_recurrent + t * 3 * kRecurrentHidden, kRecurrentStride, m.z, m.gh,
+                         count);
+  }
+  for (std::size_t r = 0; r < n; ++r) {
+    Eigen::Map<Eigen::Matrix<float, kExperts, 1>> omega(m.omega + r * kExperts);
+    softmax_inplace(omega);
+  }
+
+  run_experts_batch(expert_l1, expert_l2, expert_l3, m.z, kRecurrentHidden, m.omega, count, m.all,
+                    m.h1, m.h2, m.y);
+  for (std::size_t r = 0; r < n; ++r) {
+    out[r] = clamp_progression(
+        Eigen::Map<const Eigen::Matrix<float, kProgressionSize, 1>>(m.y + r * kProgressionSize));
+  }
 }
 
 MpnetOutput clamp_progression(const Eigen::Matrix<float, kProgressionSize, 1>& raw) {

@@ -86,8 +86,10 @@ PoseVector Ugnet::run(UgnetWindow window, std::span<const float> noise,
       networks_->net);
 }
 
-void Ugnet::run_batch(std::span<const float> windows, std::span<const float> noise,
-                      std::span<float> out) const {
+namespace {
+
+void check_batch_sizes(std::span<const float> windows, std::span<const float> noise,
+                       std::span<float> out) {
   const std::size_t count = out.size() / kPoseSize;
   if (out.size() % kPoseSize != 0 || windows.size() != count * kUgnetWindowSize ||
       (!noise.empty() && noise.size() != count * kDiffusionNoiseSize)) {
@@ -98,6 +100,14 @@ void Ugnet::run_batch(std::span<const float> windows, std::span<const float> noi
                                 std::to_string(kDiffusionNoiseSize) + " or none) and poses (" +
                                 std::to_string(kPoseSize) + ") of one count");
   }
+}
+
+}  // namespace
+
+void Ugnet::run_batch(std::span<const float> windows, std::span<const float> noise,
+                      std::span<float> out) const {
+  check_batch_sizes(windows, noise, out);
+  const std::size_t count = out.size() / kPoseSize;
   if (const auto* diffusion = std::get_if<UgnetDiffusion>(&networks_->net)) {
     diffusion->run_batch(windows, noise, out);
     return;
@@ -109,6 +119,28 @@ void Ugnet::run_batch(std::span<const float> windows, std::span<const float> noi
   for (std::size_t i = 0; i < count; ++i) {
     const PoseVector x = run(UgnetWindow(windows.subspan(i * kUgnetWindowSize, kUgnetWindowSize)));
     std::copy(x.begin(), x.end(), out.begin() + static_cast<std::ptrdiff_t>(i * kPoseSize));
+  }
+}
+
+void Ugnet::run_batch(std::span<const float> windows, std::span<const float> noise,
+                      std::span<float> out, BatchBuffers& buffers) const {
+  check_batch_sizes(windows, noise, out);
+  const std::size_t count = out.size() / kPoseSize;
+  if (const auto* moe = std::get_if<UgnetMoe>(&networks_->net)) {
+    moe->run_batch(windows.data(), static_cast<int>(count), out.data(), buffers);
+    return;
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const PoseVector x =
+        run(UgnetWindow(windows.subspan(i * kUgnetWindowSize, kUgnetWindowSize)),
+            noise.empty() ? noise : noise.subspan(i * kDiffusionNoiseSize, kDiffusionNoiseSize));
+    std::copy(x.begin(), x.end(), out.begin() + static_cast<std::ptrdiff_t>(i * kPoseSize));
+  }
+}
+
+void Ugnet::reserve_batch(std::size_t count, BatchBuffers& buffers) const {
+  if (std::holds_alternative<UgnetMoe>(networks_->net)) {
+    UgnetMoe::reserve_batch(static_cast<int>(count), buffers);
   }
 }
 

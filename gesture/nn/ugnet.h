@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "core/io/safetensors.h"
+#include "gesture/nn/batch.h"
 #include "gesture/nn/shapes.h"
 
 namespace deixis::nn {
@@ -53,6 +54,17 @@ class Ugnet {
   // that do not fit together throw std::invalid_argument.
   void run_batch(std::span<const float> windows, std::span<const float> noise,
                  std::span<float> out) const;
+
+  // The same for the runtime's batches, e.g. one window per remote person of a site
+  // (presence::tick_people): the MoE runs them as one batch (batch.h; its results equal run()'s
+  // to float rounding, within 1e-5), the other architectures call run() per window. Allocates
+  // nothing once `buffers` has held a batch this large (reserve_batch).
+  void run_batch(std::span<const float> windows, std::span<const float> noise, std::span<float> out,
+                 BatchBuffers& buffers) const;
+  void reserve_batch(std::size_t count, BatchBuffers& buffers) const;
+
+  // Whether both handles run the same loaded weights (a batch holds one network's windows).
+  bool same_weights(const Ugnet& other) const { return networks_ == other.networks_; }
 
   struct Networks;  // the loaded weights of one architecture (ugnet.cpp)
 

@@ -34,6 +34,12 @@ struct UgnetMoe {
   static bool recognises(const SafetensorsFile& file);
   void load(const SafetensorsFile& file);
   PoseVector run(UgnetWindow window, UgnetTrace* trace) const;
+  // run() on `count` windows stored one after another, predictions into out (count × 24)
+  // (Ugnet::run_batch): the gating GRUs stepped for everyone at once, every expert's products
+  // for the whole batch as matrix products, then each person's blend with their own ω.
+  void run_batch(const float* windows, int count, float* out, BatchBuffers& buffers) const;
+  // Sizes `buffers` for batches of up to `count` windows.
+  static void reserve_batch(int count, BatchBuffers& buffers);
   static constexpr std::size_t kParameters = 563733;
 };
 

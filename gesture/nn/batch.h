@@ -1,0 +1,48 @@
+#pragma once
+// What the networks need to run a batch of many people's windows at once (Mpnet::run_batch,
+// Ugnet::run_batch with buffers): reusable working memory, and the one product every batched
+// layer is made of.
+//
+// Why batches: one person's UGNet MoE reads 2.25 MB of expert weights for 0.56 M multiply-adds, so
+// alone it waits on the cache (docs/results.md, per-tick cost). A batch reads each block of
+// weights once for every person in it, which makes the same work compute-bound
+// (docs/scaling.md).
+
+#include <array>
+#include <cstddef>
+#include <span>
+
+#include "gesture/nn/params.h"
+
+namespace deixis::nn {
+
+// Working memory of batched runs: a few buffers that only ever grow. Once a batch of the largest
+// size has run (or the networks' reserve_batch() sized them), runs of that size or smaller
+// allocate nothing. One BatchBuffers serves one thread.
+class BatchBuffers {
+ public:
+  static constexpr int kSlots = 12;
+
+  // Buffer `slot` with room for at least `count` floats (contents unspecified). Allocates only
+  // when `count` exceeds the largest size asked of that slot so far.
+  std::span<float> get(int slot, std::size_t count) {
+    AlignedFloats& buffer = slots_[static_cast<std::size_t>(slot)];
+    if (buffer.size() < count) {
+      buffer.resize(count);
+    }
+    return {buffer.data(), count};
+  }
+
+ private:
+  std::array<AlignedFloats, kSlots> slots_;
+};
+
+// c = a·w for `rows` rows: a is rows × depth (row r at a + r·lda), w is depth × cols (row i at
+// w + i·ldw), c is rows × cols (row r at c + r·ldc). Each weight row is read once per block of
+// rows, not once per row: this is the whole point of batching. With AVX2 + FMA the block is six
+// rows by sixteen columns in registers; every result is a plain sum over i in order, so it
+// matches a matrix–vector product to float rounding.
+void multiply_rows(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
+                   std::size_t ldc, int rows, int depth, int cols) noexcept;
+
+}  // namespace deixis::nn
