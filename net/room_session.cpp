@@ -628,6 +628,22 @@ bool RoomSession::send_tracking(const TrackingFrame& frame, double sampled) {
   return true;
 }
 
+void RoomSession::set_hello(const Hello& hello) {
+  if (hello.site != config_.hello.site) {
+    throw Error("room: our hello cannot change the site's name ('" + config_.hello.site + "' to '" +
+                hello.site + "')");
+  }
+  std::vector<std::byte> bytes;
+  if (WireResult e = encode(hello, bytes); !e.ok()) {
+    throw Error(wire_message("room: our hello", e));
+  }
+  config_.hello = hello;
+  hello_bytes_ = std::move(bytes);
+  if (state_ == RoomState::kInRoom) {
+    send_to_verified(Channel::kReliable, hello_bytes_);
+  }
+}
+
 void RoomSession::set_target_map(const TargetMap& map) {
   std::vector<std::byte> bytes;
   if (WireResult e = encode(map, bytes); !e.ok()) {

@@ -166,6 +166,10 @@ class RoomSession final : public RelayListener {
   // Seals our frame once (stamped `sampled`) and sends it to every verified person; false when
   // there is no one to send to or the transport refused it.
   bool send_tracking(const TrackingFrame& frame, double sampled);
+  // Replaces our hello (another avatar, a new calibration) and sends it to everyone verified.
+  // Throws deixis::Error if it breaks a wire rule or names another site (our key messages carry
+  // the site name, and the others hold us to it).
+  void set_hello(const Hello& hello);
   // Replaces our target map and sends it to everyone verified. Throws deixis::Error if it breaks
   // a wire rule.
   void set_target_map(const TargetMap& map);

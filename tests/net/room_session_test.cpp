@@ -152,6 +152,31 @@ TEST(Room, ThreeMembersVerifyEachOtherAndExchangeHellosMapsAndTracking) {
   }
 }
 
+TEST(Room, ANewHelloOrTargetMapReachesEveryoneAsAChange) {
+  ThreeInARoom room;
+  ASSERT_TRUE(room.run_until([&] { return room.everyone_sees({0, 1, 2}, 2); }, 2.0));
+  room.run_until([] { return false; }, 0.2);
+  for (auto& m : room.members) {
+    events_of(*m);
+  }
+  Hello taller = room.members[0]->config().hello;
+  taller.avatar.body.height = 1.9f;
+  room.members[0]->set_hello(taller);
+  room.members[0]->set_target_map(testing::make_target_map("A", 5));
+  room.run_until([] { return false; }, 0.2);
+  for (std::size_t i : {1u, 2u}) {
+    RoomSession& m = *room.members[i];
+    const auto ev = events_of(m);
+    ASSERT_EQ(ev.size(), 2u);
+    EXPECT_EQ(ev[0].kind, RoomEventKind::kHelloChanged);
+    EXPECT_EQ(ev[1].kind, RoomEventKind::kTargetMapChanged);
+    EXPECT_FLOAT_EQ(m.hello(room.id(0))->avatar.body.height, 1.9f);
+    EXPECT_EQ(m.target_map(room.id(0))->objects.size(), 5u);
+  }
+  taller.site = "Z";
+  EXPECT_THROW(room.members[0]->set_hello(taller), deixis::Error);
+}
+
 TEST(Room, AnOpenRoomExchangesEverythingInTheClear) {
   ThreeInARoom room("", "", "");
   ASSERT_TRUE(room.run_until([&] { return room.everyone_sees({0, 1, 2}, 2); }, 2.0));
