@@ -5,8 +5,10 @@
 // file and the path of the bad field, e.g. "rooms/b.json: objects[3].position[1]: not a finite
 // number".
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,6 +21,41 @@ namespace deixis {
 // Id 0 is reserved for "the other person": in each room it is wherever that person's head (or
 // avatar's head) currently is, so it is never listed in a file.
 inline constexpr TargetId kPartnerTarget = 0;
+
+// A person of a room of several people (docs/target-map.md, "People"): the number the relay gives
+// each member (1–254, net::MemberId), seen from a site. People are targets too, above every
+// object id: person_target(Y) is, in each room, wherever Y's head is there (Y's avatar's head, or
+// the room's own user's when Y is that user), so a gaze or point at Y lands on Y in every room.
+using PersonId = std::uint8_t;
+inline constexpr PersonId kNoPerson = 0;
+inline constexpr PersonId kMaxPersonId = 254;
+inline constexpr TargetId kMaxObjectTarget = 1'000'000;
+inline constexpr TargetId kPersonTargetBase = kMaxObjectTarget;
+constexpr TargetId person_target(PersonId p) {
+  return kPersonTargetBase + static_cast<TargetId>(p);  // 1,000,001–1,000,254
+}
+constexpr bool is_person_target(TargetId id) {
+  return id > kPersonTargetBase && id <= kPersonTargetBase + kMaxPersonId;
+}
+// The person a person target designates; kNoPerson for any other id.
+constexpr PersonId target_person(TargetId id) {
+  return is_person_target(id) ? static_cast<PersonId>(id - kPersonTargetBase) : kNoPerson;
+}
+
+// A person of a room and where their head is in this room: a remote person's avatar's head, or
+// this room's own user's (the translator's LocalTargets and the target selection read these).
+struct PersonTarget {
+  PersonId id = kNoPerson;
+  Vec3 head = Vec3::Zero();
+};
+inline const PersonTarget* find_person(std::span<const PersonTarget> people, PersonId id) {
+  for (const PersonTarget& p : people) {
+    if (p.id == id) {
+      return &p;
+    }
+  }
+  return nullptr;
+}
 
 enum class TargetKind { kSphere, kBox, kScreen };
 std::string_view kind_name(TargetKind kind);

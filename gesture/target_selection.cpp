@@ -13,12 +13,32 @@ float angle_deg(const Vec3& a, const Vec3& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * kDegPerRad;
 }
 
-Vec3 position_of(TargetId id, const TargetMap& room, const Vec3& partner_head) {
+constexpr float kNobodyAheadM = 2.0f;  // where "the other person" is when there is none
+
+// A candidate's position, or null when it is not one (gone from the room, never there).
+const Vec3* candidate_position(TargetId id, const SelectionCandidates& c) {
   if (id == kPartnerTarget) {
-    return partner_head;
+    return c.partner_head;
   }
-  const TargetObject* object = room.find(id);
-  return object != nullptr ? object->position : partner_head;
+  if (is_person_target(id)) {
+    const PersonId person = target_person(id);
+    const PersonTarget* p = person != c.self ? find_person(c.people, person) : nullptr;
+    return p != nullptr ? &p->head : nullptr;
+  }
+  const TargetObject* object = c.map != nullptr ? c.map->find(id) : nullptr;
+  return object != nullptr ? &object->position : nullptr;
+}
+
+// Where a target is for the frame: the candidate's position, else the other person's head, else
+// a point ahead of the user's head (the target stays "the other person" until one is designated).
+Vec3 position_of(TargetId id, const SelectionCandidates& c, const Pose& T_world_head) {
+  if (const Vec3* p = candidate_position(id, c)) {
+    return *p;
+  }
+  if (c.partner_head != nullptr) {
+    return *c.partner_head;
+  }
+  return transform_point(T_world_head, Vec3(0, 0, -kNobodyAheadM));
 }
 
 // What a person designates with: a ray from `origin` along `direction` (none for a hand held
@@ -32,7 +52,7 @@ struct Designation {
 };
 
 // How far a candidate is from being designated, in degrees: 0 when the fingertip touches it,
-// else its angle off the ray, ∞ without a ray. `object` is null for the other person.
+// else its angle off the ray, ∞ without a ray. `object` is null for a person.
 float angle_to(const Designation& d, const TargetObject* object, const Vec3& centre) {
   if (d.fingertip != nullptr && object != nullptr &&
       (*d.fingertip - closest_surface_point(*object, *d.fingertip)).norm() <= d.touch_m) {
@@ -47,27 +67,43 @@ struct Nearest {
   float angle_deg = std::numeric_limits<float>::infinity();
 };
 
-// The candidate nearest to being designated (the first of equals), and its angle.
-Nearest nearest(const Designation& d, const TargetMap& room, const Vec3& partner_head) {
-  Nearest best{kPartnerTarget, angle_to(d, nullptr, partner_head)};
-  for (const TargetObject& object : room.objects) {
-    const float a = angle_to(d, &object, object.position);
-    if (a < best.angle_deg) {
-      best = {object.id, a};
+// The candidate nearest to being designated (the first of equals: the other person, the
+// objects, then the people), and its angle.
+Nearest nearest(const Designation& d, const SelectionCandidates& c) {
+  Nearest best;
+  const auto consider = [&](TargetId id, const TargetObject* object, const Vec3& centre) {
+    const float a = angle_to(d, object, centre);
+    if (best.id == kNoTarget || a < best.angle_deg) {
+      best = {id, a};
+    }
+  };
+  if (c.partner_head != nullptr) {
+    consider(kPartnerTarget, nullptr, *c.partner_head);
+  }
+  if (c.map != nullptr) {
+    for (const TargetObject& object : c.map->objects) {
+      consider(object.id, &object, object.position);
+    }
+  }
+  for (const PersonTarget& person : c.people) {
+    if (person.id != c.self && person.id != kNoPerson) {
+      consider(person_target(person.id), nullptr, person.head);
     }
   }
   return best;
 }
 
-// The current target's angle (∞ when it no longer exists in this room).
-float current_angle(TargetId current, const Designation& d, const TargetMap& room,
-                    const Vec3& partner_head) {
-  if (current == kPartnerTarget) {
-    return angle_to(d, nullptr, partner_head);
+// The current target's angle (∞ when it is not a candidate in this room).
+float current_angle(TargetId current, const Designation& d, const SelectionCandidates& c) {
+  const Vec3* position = candidate_position(current, c);
+  if (position == nullptr) {
+    return std::numeric_limits<float>::infinity();
   }
-  const TargetObject* object = room.find(current);
-  return object != nullptr ? angle_to(d, object, object->position)
-                           : std::numeric_limits<float>::infinity();
+  const TargetObject* object =
+      current != kPartnerTarget && !is_person_target(current) && c.map != nullptr
+          ? c.map->find(current)
+          : nullptr;
+  return angle_to(d, object, *position);
 }
 
 // Whether `best` takes over from `current`, with the hysteresis margin.
@@ -84,7 +120,7 @@ TargetSelectionConfig target_selection_for(const BodyCalibration& body) {
   return c;
 }
 
-void TargetSelector::select(TrackingFrame& frame, const TargetMap& room, const Vec3& partner_head) {
+void TargetSelector::select(TrackingFrame& frame, const SelectionCandidates& candidates) {
   const Vec3 head = frame.T_world_head.translation;
   const bool head_tracked = (frame.valid & tracked::kHead) != 0;
   if (head_tracked) {
@@ -92,9 +128,9 @@ void TargetSelector::select(TrackingFrame& frame, const TargetMap& room, const V
                           ? frame.gaze
                           : Vec3(frame.T_world_head.rotation * Vec3(0, 0, -1));
     const Designation eyes{head, gaze};
-    const Nearest best = nearest(eyes, room, partner_head);
+    const Nearest best = nearest(eyes, candidates);
     if (best.id != head_target &&
-        takes_over(best, current_angle(head_target, eyes, room, partner_head), config)) {
+        takes_over(best, current_angle(head_target, eyes, candidates), config)) {
       head_target = best.id;
     }
   }
@@ -105,8 +141,8 @@ void TargetSelector::select(TrackingFrame& frame, const TargetMap& room, const V
     // A hand nearer than the pointing reach designates only what it touches.
     const Designation finger{head, ray, ray.norm() >= config.pointing_reach_m, &tip,
                              config.touch_m};
-    const Nearest best = nearest(finger, room, partner_head);
-    const float current = current_angle(hand_target, finger, room, partner_head);
+    const Nearest best = nearest(finger, candidates);
+    const float current = current_angle(hand_target, finger, candidates);
     bool switched = false;
     if (best.id != hand_target && takes_over(best, current, config)) {
       const bool at_once = best.id == head_target;  // the eyes are on it already
@@ -126,8 +162,8 @@ void TargetSelector::select(TrackingFrame& frame, const TargetMap& room, const V
   }
   frame.head_target = head_target;
   frame.hand_target = hand_target;
-  frame.head_target_position = position_of(head_target, room, partner_head);
-  frame.hand_target_position = position_of(hand_target, room, partner_head);
+  frame.head_target_position = position_of(head_target, candidates, frame.T_world_head);
+  frame.hand_target_position = position_of(hand_target, candidates, frame.T_world_head);
 }
 
 }  // namespace deixis

@@ -15,9 +15,13 @@
 //   angles to the target from the first frame of the window).
 // - Hysteresis: a new candidate replaces the current one only when it is nearer by
 //   `switch_margin_deg`, so two objects close together do not make the target flicker.
-// - Candidates: the room's objects and the other person (kPartnerTarget) at their head.
+// - Candidates: the room's objects and the other person (kPartnerTarget) at their head; in a
+//   room of several people, its people (person_target(id), core/target_map.h) at their heads,
+//   the user's own id excepted.
 //
 // Nothing is allocated; state is the current pair of targets.
+
+#include <span>
 
 #include "core/target_map.h"
 #include "core/tracking.h"
@@ -38,6 +42,18 @@ struct TargetSelectionConfig {
   int dwell_ticks = 6;
 };
 
+// What a user can designate: the room's objects, the other person of a direct session (null in
+// a room of several people, where nobody is "the other person") and the room's people by id,
+// their heads where this room shows them (`self`, the user's own id, is never a candidate).
+// Until a candidate is designated the targets stay the other person (kPartnerTarget), placed 2 m
+// along the head's forward when there is none.
+struct SelectionCandidates {
+  const TargetMap* map = nullptr;
+  const Vec3* partner_head = nullptr;
+  std::span<const PersonTarget> people;
+  PersonId self = kNoPerson;
+};
+
 // The configuration for a calibrated person: their deictic hand and pointing reach.
 TargetSelectionConfig target_selection_for(const BodyCalibration& body);
 
@@ -49,9 +65,12 @@ struct TargetSelector {
   int pending_ticks = 0;
 
   // Fills frame.head_target, hand_target and their positions from the frame's head, gaze and
-  // deictic hand, this room's objects and where the other person's head is. Untracked parts keep
-  // their previous targets.
-  void select(TrackingFrame& frame, const TargetMap& room, const Vec3& partner_head);
+  // deictic hand and the candidates. Untracked parts keep their previous targets.
+  void select(TrackingFrame& frame, const SelectionCandidates& candidates);
+  // A direct two-site session: this room's objects and where the other person's head is.
+  void select(TrackingFrame& frame, const TargetMap& room, const Vec3& partner_head) {
+    select(frame, SelectionCandidates{&room, &partner_head, {}, kNoPerson});
+  }
 };
 
 }  // namespace deixis

@@ -46,7 +46,12 @@ Vec3 Translator::avatar_target_position(TargetId id, const Vec3& user_position,
   if (id == kPartnerTarget) {
     return room.partner_head;
   }
-  if (room.map != nullptr) {
+  if (is_person_target(id)) {
+    // Another person of the room: wherever their head is in this room (docs/target-map.md).
+    if (const PersonTarget* person = room.find_person(target_person(id))) {
+      return person->head;
+    }
+  } else if (room.map != nullptr) {
     if (const TargetObject* object = room.map->find(id)) {
       return object->position;
     }

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <random>
+#include <span>
 
 #include "core/target_map.h"
 #include "gesture/translation_loop.h"
@@ -27,11 +28,16 @@ struct TranslatorConfig {
   std::uint32_t noise_seed = 1;  // for a diffusion UGNet's draws
 };
 
-// What this room knows about targets: its target map and where the local user's head is (the
-// "other person" target, id 0, for the avatar).
+// What this room knows about targets: its target map, where the local user's head is (the
+// "other person" target, id 0, of a direct two-site session) and, in a room of several people,
+// every person's head by PersonId (person_target(id); the own user under their own id). A
+// person target not in `people` counts as an unknown target.
 struct LocalTargets {
   const TargetMap* map = nullptr;
   Vec3 partner_head = Vec3::Zero();
+  std::span<const PersonTarget> people{};
+
+  const PersonTarget* find_person(PersonId id) const { return deixis::find_person(people, id); }
 };
 
 struct AvatarFrame {

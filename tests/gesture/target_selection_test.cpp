@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 namespace deixis {
@@ -183,6 +184,64 @@ TEST(TargetSelection, TheLeftHandWhenItIsTheDeicticOne) {
   f.index_tip[index(Hand::kLeft)] = kHead + 0.6f * direction(30, -10);
   f.index_tip[index(Hand::kRight)] = kHead + 0.6f * direction(-30, -10);  // not the deictic hand
   EXPECT_EQ(held(selector, f, room, 6).hand_target, 1);
+}
+
+// A room of several people: person 7's avatar 45° to the left, person 9's 45° to the right, the
+// user (person 3) among them; no "other person" (kPartnerTarget) is a candidate.
+struct Gathering {
+  Room room;
+  std::array<PersonTarget, 3> people = {PersonTarget{7, kHead + 2.0f * direction(45, 0)},
+                                        PersonTarget{9, kHead + 2.0f * direction(-45, 0)},
+                                        PersonTarget{3, kHead}};
+  SelectionCandidates candidates() const { return {&room.map, nullptr, people, 3}; }
+};
+
+TEST(TargetSelection, LookingAtAnAvatarSelectsThatPerson) {
+  const Gathering g;
+  TargetSelector selector;
+  TrackingFrame f = user(direction(44, 1));
+  selector.select(f, g.candidates());
+  EXPECT_EQ(f.head_target, person_target(7));
+  EXPECT_EQ(f.hand_target, person_target(7));  // the resting hand follows the eyes
+  EXPECT_TRUE(f.head_target_position.isApprox(g.people[0].head));
+  TrackingFrame other = user(direction(-46, 0));
+  selector.select(other, g.candidates());
+  EXPECT_EQ(other.head_target, person_target(9));
+  EXPECT_TRUE(other.head_target_position.isApprox(g.people[1].head));
+}
+
+TEST(TargetSelection, PointingAtAnAvatarSelectsThatPerson) {
+  const Gathering g;
+  TargetSelector selector;
+  const Vec3 tip = kHead + 0.6f * direction(-45, 0);
+  const TrackingFrame pointing = user(direction(-45, 0), &tip);
+  TrackingFrame f = pointing;
+  selector.select(f, g.candidates());
+  EXPECT_EQ(f.hand_target, person_target(9));  // at once: the eyes are on them
+  // Objects stay candidates beside people.
+  TrackingFrame object = user(direction(0, -10));
+  selector.select(object, g.candidates());
+  EXPECT_EQ(object.head_target, 2);
+}
+
+TEST(TargetSelection, TheUserIsNeverTheirOwnTargetAndAPersonWhoLeftIsDropped) {
+  Gathering g;
+  // The own user's head is a PersonTarget of the room (for the avatars), never a candidate: a gaze
+  // that passes near nothing keeps the start target, placed ahead of the head.
+  TargetSelector selector;
+  TrackingFrame f = user(direction(0, 60));
+  selector.select(f, g.candidates());
+  EXPECT_EQ(f.head_target, kPartnerTarget);
+  EXPECT_TRUE(f.head_target_position.allFinite());
+  TrackingFrame at7 = user(direction(45, 0));
+  selector.select(at7, g.candidates());
+  ASSERT_EQ(at7.head_target, person_target(7));
+  // Person 7 leaves: the target is no candidate any more (angle ∞), so the next gaze on anything
+  // takes over without the hysteresis margin.
+  g.people[0].id = 8;
+  TrackingFrame near_old = user(direction(0, -10));
+  selector.select(near_old, g.candidates());
+  EXPECT_EQ(near_old.head_target, 2);
 }
 
 }  // namespace
