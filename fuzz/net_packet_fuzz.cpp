@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/target_map.h"
+#include "net/avatar_transfer.h"
 #include "net/messages.h"
 #include "net/quantize.h"
 #include "net/tracking_codec.h"
@@ -83,6 +84,33 @@ void check_hello(std::span<const std::byte> input) {
         "the root rotation survives re-encoding");
 }
 
+// Avatar requests and chunks: accepted ones keep their bounds and re-encode to their bytes.
+void check_avatar(std::span<const std::byte> input) {
+  std::vector<std::byte> again(kAvatarDataHeaderBytes + kAvatarChunkMaxBytes);
+  AvatarRequest request;
+  const WireResult r = decode(input, request);
+  check_result(r);
+  if (r.ok()) {
+    const std::size_t n = encode(request, again);
+    check(std::equal(again.begin(), again.begin() + static_cast<std::ptrdiff_t>(n), input.begin(),
+                     input.end()),
+          "an accepted avatar request re-encodes to its bytes");
+  }
+  AvatarData data;
+  const WireResult d = decode(input, data);
+  check_result(d);
+  if (d.ok()) {
+    check(data.total >= 1 && data.total <= kAvatarFileMaxBytes, "a file size within bounds");
+    check(!data.bytes.empty() && data.bytes.size() <= kAvatarChunkMaxBytes &&
+              data.offset < data.total && data.bytes.size() <= data.total - data.offset,
+          "a chunk inside its file");
+    const std::size_t n = encode(data, again);
+    check(std::equal(again.begin(), again.begin() + static_cast<std::ptrdiff_t>(n), input.begin(),
+                     input.end()),
+          "an accepted avatar chunk re-encodes to its bytes");
+  }
+}
+
 bool finite(const TrackingFrame& f) {
   return std::isfinite(f.time) && is_finite(f.T_world_head) && f.gaze.allFinite() &&
          is_finite(f.T_world_wrist[0]) && is_finite(f.T_world_wrist[1]) &&
@@ -144,6 +172,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     check_exact<Bye>(input);
     check_hello(input);
     check_tracking(input);
+    check_avatar(input);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "net_packet_fuzz: a decoder threw: %s\n", e.what());
     __builtin_trap();

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "net/avatar_transfer.h"
 #include "net/messages.h"
 #include "net/tracking_codec.h"
 #include "net_fixtures.h"
@@ -79,6 +80,12 @@ int main(int argc, char** argv) {
   Bytes nan_hello = hello;
   nan_hello[13] = std::byte{0x00}, nan_hello[14] = std::byte{0x00};
   nan_hello[15] = std::byte{0xC0}, nan_hello[16] = std::byte{0x7F};  // height: NaN
+  const Bytes avatar_file(300, std::byte{0x5A});
+  Bytes avatar_request(kAvatarRequestBytes);
+  encode(AvatarRequest{avatar_hash(avatar_file)}, avatar_request);
+  Bytes avatar_data(kAvatarDataHeaderBytes + 200);
+  encode(AvatarData{avatar_hash(avatar_file), 300, 100, std::span(avatar_file).subspan(100)},
+         avatar_data);
   Bytes sealed(40, std::byte{0x33});
   sealed[0] = std::byte{0x20};
 
@@ -98,6 +105,8 @@ int main(int argc, char** argv) {
       {"bad-tracking-truncated", truncated},
       {"bad-hello-nan-height", nan_hello},
       {"sealed-garbage", sealed},
+      {"avatar-request", avatar_request},
+      {"avatar-data", avatar_data},
       {"empty", {}}};
   for (const auto& [name, bytes] : seeds) {
     write(packets / (name + ".bin"), bytes);
