@@ -29,6 +29,11 @@ class ScriptedPerson {
     targets_.assign(scene.objects.begin(), scene.objects.end());
     targets_.push_back({kPartnerTarget, "partner", TargetKind::kSphere, scene.partner_head,
                         Vec3::Constant(kPartnerSize)});
+    // People are looked and pointed at as objects are: a head-sized sphere where their eyes are.
+    for (const ScenePerson& person : scene.people) {
+      targets_.push_back({person.target, person.site, TargetKind::kSphere, person.head,
+                          Vec3::Constant(kPartnerSize)});
+    }
     // Standing upright facing the other person: they are what the person attends to until the
     // script says otherwise (the translator needs a head and a hand target in every frame).
     labels_.head_target.set(0.0, kPartnerTarget);
@@ -114,6 +119,9 @@ class ScriptedPerson {
       if (t.id == id) {
         return t;
       }
+    }
+    if (is_script_person_target(id)) {
+      throw Error("no person #" + std::to_string(script_person_index(id)) + " in the room");
     }
     throw Error("no object with id " + std::to_string(id) + " in the room");
   }

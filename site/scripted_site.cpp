@@ -196,6 +196,18 @@ class ScriptedSite {
     record_.sealed = !options_.passphrase.empty();
     record_.traffic = peer_.network().link().traffic();
     record_.video = view_ != nullptr ? "views.mp4" : "";
+    // The direct session's one remote person, measured by this site's observer.
+    if (session.remote_hello() != nullptr) {
+      PersonRecord person;
+      person.site = record_.peer_site;
+      person.frames_played = peer_.stats().played;
+      person.frames_missed = peer_.stats().missed;
+      person.visible_ticks = peer_.stats().visible_ticks;
+      person.stays = session.status().streams;
+      person.completions = record_.remote_completions;
+      person.completions_dropped = record_.completions_dropped;
+      record_.people.push_back(std::move(person));
+    }
     return record_;
   }
 

@@ -1,5 +1,6 @@
 #include "site/site_config.h"
 
+#include <algorithm>
 #include <numbers>
 
 #include "core/io/json_reader.h"
@@ -40,9 +41,28 @@ Camera parse_camera(const JsonReader& r, const json& j, const std::string& path)
   return c;
 }
 
+// A step's person (`"person": "B"`): the k-th distinct site name of the script, k in `people`.
+TargetId parse_person(const JsonReader& r, const json& j, const std::string& path,
+                      const SiteConfig& config, std::vector<std::string>& people) {
+  const std::string name = r.name(j, path);
+  if (name == config.site) {
+    r.fail(path, "'" + name + "' is this site: its user cannot look or point at themselves");
+  }
+  auto at = std::find(people.begin(), people.end(), name);
+  if (at == people.end()) {
+    if (people.size() == config.spots.size()) {
+      r.fail(path, "the script names more people than remote_avatar has spots (" +
+                       std::to_string(config.spots.size()) + ")");
+    }
+    at = people.insert(people.end(), name);
+  }
+  return script_person_target(static_cast<std::size_t>(at - people.begin()));
+}
+
 ScriptStep parse_step(const JsonReader& r, const json& j, const std::string& path,
-                      const TargetMap& map) {
-  r.only_fields(j, path, {"action", "target", "seconds"});
+                      const SiteConfig& config, std::vector<std::string>& people) {
+  const TargetMap& map = config.target_map;
+  r.only_fields(j, path, {"action", "target", "person", "seconds"});
   ScriptStep step;
   const std::string name = r.string(r.member(j, path, "action"), path + ".action");
   bool needs_target = false;
@@ -58,7 +78,18 @@ ScriptStep parse_step(const JsonReader& r, const json& j, const std::string& pat
     r.fail(path + ".action",
            "unknown action '" + name + "' (expected look_at, point, touch, explain or rest)");
   }
-  if (needs_target) {
+  const bool at_person =
+      step.action == ScriptStep::Action::kLookAt || step.action == ScriptStep::Action::kPoint;
+  if (j.contains("person")) {
+    if (!at_person) {
+      r.fail(path + ".person", "'" + name + "' takes no person (look_at and point do)");
+    }
+    if (j.contains("target")) {
+      r.fail(path + ".person", "give either a target or a person, not both");
+    }
+    step.person = r.name(j["person"], path + ".person");
+    step.target = parse_person(r, j["person"], path + ".person", config, people);
+  } else if (needs_target) {
     step.target = static_cast<TargetId>(
         r.integer_in(r.member(j, path, "target"), path + ".target", 0, 1'000'000));
     if (step.target != kPartnerTarget && map.find(step.target) == nullptr) {
@@ -75,7 +106,7 @@ ScriptStep parse_step(const JsonReader& r, const json& j, const std::string& pat
 }
 
 VirtualUser parse_virtual_user(const JsonReader& r, const json& j, const std::string& path,
-                               const TargetMap& map) {
+                               const SiteConfig& config) {
   r.only_fields(j, path, {"subject", "seed", "script"});
   VirtualUser user;
   user.subject = r.string(r.member(j, path, "subject"), path + ".subject");
@@ -89,9 +120,49 @@ VirtualUser parse_virtual_user(const JsonReader& r, const json& j, const std::st
   }
   for (std::size_t i = 0; i < script.size(); ++i) {
     user.script.push_back(
-        parse_step(r, script[i], path + ".script[" + std::to_string(i) + "]", map));
+        parse_step(r, script[i], path + ".script[" + std::to_string(i) + "]", config, user.people));
   }
   return user;
+}
+
+// `remote_avatar`: the avatar remote people wear and where they stand, either one spot (`floor`,
+// `yaw_degrees`) or a list of them (`spots`), docs/site-config.md.
+void parse_remote_avatars(const JsonReader& r, const json& j, const std::filesystem::path& base_dir,
+                          SiteConfig& config) {
+  const std::string path = "remote_avatar";
+  const json& avatar = r.member(j, "", "remote_avatar");
+  config.avatar_path = base_dir / r.string(r.member(avatar, path, "avatar"), path + ".avatar");
+  if (!avatar.contains("spots")) {
+    config.spots = {parse_placement(r, avatar, path)};
+  } else {
+    r.only_fields(avatar, path, {"avatar", "spots"});
+    const json& spots = avatar["spots"];
+    if (!spots.is_array() || spots.empty() || spots.size() > SiteConfig::kMaxSpots) {
+      r.fail(path + ".spots",
+             "expected an array of 1 to " + std::to_string(SiteConfig::kMaxSpots) + " spots");
+    }
+    for (std::size_t i = 0; i < spots.size(); ++i) {
+      const std::string at = path + ".spots[" + std::to_string(i) + "]";
+      if (!spots[i].is_object()) {
+        r.fail(at, "expected an object");
+      }
+      if (spots[i].contains("avatar")) {
+        r.fail(at + ".avatar", "every spot wears remote_avatar.avatar");
+      }
+      config.spots.push_back(parse_placement(r, spots[i], at));
+    }
+  }
+  // Two avatars on one spot would stand inside each other.
+  for (std::size_t i = 0; i < config.spots.size(); ++i) {
+    for (std::size_t k = 0; k < i; ++k) {
+      const float d = (config.spots[i].floor - config.spots[k].floor).norm();
+      if (d < SiteConfig::kMinSpotDistance) {
+        r.fail("remote_avatar.spots[" + std::to_string(i) + "].floor",
+               "less than 0.4 m from spots[" + std::to_string(k) + "]: the avatars would overlap");
+      }
+    }
+  }
+  config.remote_avatar = config.spots.front();
 }
 
 }  // namespace
@@ -115,6 +186,7 @@ SiteConfig parse_site_config(std::string_view json_text, std::string_view source
     r.fail("version", "this Deixis reads version " + std::to_string(SiteConfig::kFormatVersion));
   }
   SiteConfig config;
+  config.source = std::string(source);
   config.site = r.name(r.member(j, "", "site"), "site");  // the hello carries it
   config.target_map_path = base_dir / r.string(r.member(j, "", "target_map"), "target_map");
   try {
@@ -123,16 +195,12 @@ SiteConfig parse_site_config(std::string_view json_text, std::string_view source
     r.fail("target_map", e.what());
   }
   config.user = parse_placement(r, r.member(j, "", "user"), "user");
-  const json& avatar = r.member(j, "", "remote_avatar");
-  config.remote_avatar = parse_placement(r, avatar, "remote_avatar");
-  config.avatar_path =
-      base_dir / r.string(r.member(avatar, "remote_avatar", "avatar"), "remote_avatar.avatar");
+  parse_remote_avatars(r, j, base_dir, config);
   if (j.contains("camera")) {
     config.camera = parse_camera(r, j["camera"], "camera");
   }
   if (j.contains("virtual_user")) {
-    config.virtual_user =
-        parse_virtual_user(r, j["virtual_user"], "virtual_user", config.target_map);
+    config.virtual_user = parse_virtual_user(r, j["virtual_user"], "virtual_user", config);
   }
   return config;
 }

@@ -1,9 +1,9 @@
 #pragma once
 // A site's configuration (docs/site-config.md): its name, its room's target map, where its user
-// stands, where the remote person's avatar stands and which avatar it wears, how the headless
-// view is framed, and optionally a scripted virtual user (the demo's and tests' stand-in for a
-// person in a headset). Read from versioned JSON; every error names the file and the path of the
-// bad field, e.g. "sites/a.json: remote_avatar.floor[2]: not a finite number".
+// stands, where remote people's avatars stand (one spot each) and which avatar they wear, how the
+// headless view is framed, and optionally a scripted virtual user (the demo's and tests' stand-in
+// for a person in a headset). Read from versioned JSON; every error names the file and the path of
+// the bad field, e.g. "sites/a.json: remote_avatar.floor[2]: not a finite number".
 
 #include <filesystem>
 #include <optional>
@@ -26,12 +26,16 @@ struct Placement {
 };
 
 // One step of a virtual user's script (core/script_step.h, so that the capture performs it
-// without depending on app/). Targets are ids of the target map (0: the other person).
+// without depending on app/). Targets are ids of the target map (0: the other person), or a
+// person by site name (script_person_target).
 
 struct VirtualUser {
   std::string subject;  // a synthetic-capture subject, e.g. "173"
   std::uint64_t seed = 1;
   std::vector<ScriptStep> script;
+  // The site names of the people the script looks or points at, in order of first mention:
+  // people[k] is script_person_target(k) (core/script_step.h); at most one per avatar spot.
+  std::vector<std::string> people;
 };
 
 struct Camera {
@@ -42,12 +46,19 @@ struct Camera {
 
 struct SiteConfig {
   static constexpr int kFormatVersion = 1;
+  static constexpr std::size_t kMaxSpots = 64;  // remote people one site shows at once
+  static constexpr float kMinSpotDistance =
+      0.4f;            // m between two spots' floor points (errors say 0.4)
+  std::string source;  // the file it was read from (errors about the site name it)
   std::string site;
   std::filesystem::path target_map_path;
   TargetMap target_map;
   Placement user;
-  Placement remote_avatar;
-  std::filesystem::path avatar_path;  // the remote person's avatar (.glb)
+  // Where remote people's avatars stand, in the order people take them (site/remote_people.h):
+  // `remote_avatar.spots`, or the one spot of `remote_avatar`. Never empty.
+  std::vector<Placement> spots;
+  Placement remote_avatar;            // spots.front(): the direct two-site session's avatar
+  std::filesystem::path avatar_path;  // what remote people's avatars wear (.glb)
   Camera camera;
   std::optional<VirtualUser> virtual_user;
 };

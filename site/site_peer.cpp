@@ -22,25 +22,21 @@ net::Hello hello_of(const SiteConfig& site, const BodyCalibration& user) {
 SitePeer::SitePeer(const SitePeerOptions& options, const SiteConfig& site,
                    const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
                    const ik::AvatarSolver& solver, double now)
-    : site_(site),
-      networks_(networks),
-      solver_(solver),
-      net_(SiteSessionOptions{options.role, options.address, options.port, options.passphrase},
-           hello_of(site, user), site.target_map) {
+    : net_(SiteSessionOptions{options.role, options.address, options.port, options.passphrase},
+           hello_of(site, user), site.target_map),
+      people_(site, networks, solver) {
   net_.start(now, options.wait);
 }
 
 void SitePeer::meet_remote_person(const net::Hello& hello, RemotePersonWatcher* watcher) {
-  // A new connection (the first, or after a reconnect): the person may have changed.
-  const BodyCalibration& person = hello.avatar.body;
-  const MoeNetworks& n = networks_[static_cast<std::size_t>(index(person.deictic_hand))];
-  avatar_.emplace(n.mpnet, n.ugnet, solver_,
-                  presence::RemoteAvatarConfig{person, site_.remote_avatar.T_world_floor(), 1});
+  // A new connection (the first, or after a reconnect): the person may have changed, and gets a
+  // fresh avatar on the first spot.
+  const presence::RemoteAvatar& avatar = people_.meet(kDirectPerson, hello);
   stream_ = net_.session().status().streams;
   stats_.peer_site = hello.site;
   spdlog::info("streaming with site {}", hello.site);
   if (watcher != nullptr) {
-    watcher->on_new_person(hello, *avatar_);
+    watcher->on_new_person(hello, avatar);
   }
 }
 
@@ -66,6 +62,8 @@ void SitePeer::tick(const TrackingFrame& user, double sampled, double now, const
   if (!live_ && watcher != nullptr) {
     watcher->on_no_stream();
   }
+  people_.set_live(kDirectPerson, live_);
+  people_.end_tick();
   stats_.visible_ticks += visible_avatar() != nullptr ? 1 : 0;
 }
 
@@ -74,17 +72,18 @@ void SitePeer::play_due_frames(double now, const LocalTargets& room, RemotePerso
   net::Playout p = session.next_frame(now);
   for (; p.kind == net::PlayoutKind::kFrame || p.kind == net::PlayoutKind::kMissed;
        p = session.next_frame(now)) {
-    if (!avatar_) {
+    const presence::RemoteAvatar* avatar = people_.avatar(kDirectPerson);
+    if (avatar == nullptr) {
       continue;
     }
     const bool missed = p.kind == net::PlayoutKind::kMissed;
     const auto t0 = std::chrono::steady_clock::now();
-    avatar_->tick(missed ? nullptr : p.frame, room);
+    people_.play(PersonFrame{kDirectPerson, missed ? nullptr : p.frame, p.sequence}, room);
     const std::chrono::duration<double, std::milli> took = std::chrono::steady_clock::now() - t0;
     stats_.played += missed ? 0 : 1;
     stats_.missed += missed ? 1 : 0;
     if (watcher != nullptr) {
-      watcher->on_played(p, *avatar_, took.count());
+      watcher->on_played(p, *avatar, took.count());
     }
   }
   live_ = p.kind != net::PlayoutKind::kNoStream;
@@ -99,7 +98,8 @@ void SitePeer::wait(const SiteClock& clock, double until) {
 }
 
 const presence::RemoteAvatar* SitePeer::visible_avatar() const {
-  return live_ && avatar_ && avatar_->visible() ? &*avatar_ : nullptr;
+  const presence::RemoteAvatar* avatar = people_.avatar(kDirectPerson);
+  return live_ && avatar != nullptr && avatar->visible() ? avatar : nullptr;
 }
 
 }  // namespace deixis::site

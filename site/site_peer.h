@@ -14,6 +14,7 @@
 
 #include "presence/remote_avatar.h"
 #include "site/moe_weights.h"
+#include "site/remote_people.h"
 #include "site/site_config.h"
 #include "site/site_session.h"
 
@@ -75,6 +76,10 @@ class SitePeer {
 
   // The avatar to draw this tick; null while it must be hidden (no live stream, not yet ready).
   const presence::RemoteAvatar* visible_avatar() const;
+  // The other site's person as one of the remote people (PersonId kDirectPerson, on the site's
+  // first spot); in this direct session they stay "the other person" (target 0) for both sites.
+  const RemotePeople& people() const { return people_; }
+  static constexpr PersonId kDirectPerson = 1;
   const SitePeerStats& stats() const { return stats_; }
   const SiteSession& network() const { return net_; }
   void close(double now) { net_.close(now); }
@@ -83,11 +88,8 @@ class SitePeer {
   void meet_remote_person(const net::Hello& hello, RemotePersonWatcher* watcher);
   void play_due_frames(double now, const LocalTargets& room, RemotePersonWatcher* watcher);
 
-  const SiteConfig& site_;
-  const std::array<MoeNetworks, 2>& networks_;
-  const ik::AvatarSolver& solver_;
   SiteSession net_;
-  std::optional<presence::RemoteAvatar> avatar_;
+  RemotePeople people_;
   std::uint64_t stream_ = 0;  // the connection the avatar belongs to
   bool live_ = false;
   SitePeerStats stats_;

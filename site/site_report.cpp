@@ -130,6 +130,30 @@ json completions_json(const std::vector<eval::DeicticSample>& samples) {
   return out;
 }
 
+// One remote site's person: counters and the mean pointing errors of their avatar at the
+// completion states observed (null when none was).
+json people_json(const std::vector<PersonRecord>& people) {
+  json out = json::array();
+  for (const PersonRecord& p : people) {
+    const Means m = means(p.completions, false);
+    const Means t = means(p.completions, true);
+    out.push_back({{"site", p.site},
+                   {"frames_played", p.frames_played},
+                   {"frames_missed", p.frames_missed},
+                   {"visible_ticks", p.visible_ticks},
+                   {"stays", p.stays},
+                   {"pointing_count", m.count},
+                   {"he_deg", number(m.avatar_h)},
+                   {"ve_deg", number(m.avatar_v)},
+                   {"copy_he_deg", number(m.copy_h)},
+                   {"copy_ve_deg", number(m.copy_v)},
+                   {"touching_count", t.count},
+                   {"touch_cm", number(t.avatar_cm)},
+                   {"completions_dropped", p.completions_dropped}});
+  }
+  return out;
+}
+
 }  // namespace
 
 double percentile(std::vector<double> values, double p) {
@@ -161,7 +185,8 @@ void write_site_report(const SiteRecord& r, const std::filesystem::path& path) {
                   {"remote_completions_dropped", r.completions_dropped},
                   {"pointing", means_json(means(r.remote_completions, false), false)},
                   {"touching", means_json(means(r.remote_completions, true), true)},
-                  {"video", r.video.empty() ? json(nullptr) : json(r.video)}};
+                  {"video", r.video.empty() ? json(nullptr) : json(r.video)},
+                  {"people", people_json(r.people)}};
   std::ofstream out(path);
   out << j.dump(2) << '\n';
   if (!out) {

@@ -17,6 +17,19 @@
 
 namespace deixis::site {
 
+// What a site reports about one remote site's person over a run (session.json `people`):
+// counters summed over their stays (a person who leaves and comes back, with a fresh id, is the
+// same site) and the completion states observed of them (eval/deictic_observer.h).
+struct PersonRecord {
+  std::string site;
+  std::uint64_t frames_played = 0;
+  std::uint64_t frames_missed = 0;
+  std::uint64_t visible_ticks = 0;
+  std::uint64_t stays = 0;  // how many times they arrived
+  std::vector<eval::DeicticSample> completions;
+  std::uint64_t completions_dropped = 0;
+};
+
 struct SiteRecord {
   std::string site;
   std::string role;  // "host" or "join"
@@ -39,6 +52,8 @@ struct SiteRecord {
   bool sealed = false;
   net::EnetLink::Traffic traffic;
   std::string video;  // file name in the output directory, or empty
+  // One entry per remote site's person; a direct session's is its one other person.
+  std::vector<PersonRecord> people;
 };
 
 // The p-th percentile (0–100) by nearest rank; NaN for no values.

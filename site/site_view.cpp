@@ -25,6 +25,8 @@ SiteView::SiteView(const SiteConfig& site, const avatar::Avatar& avatar, int vie
   // The user's copy and the remote person wear the same avatar (the site file names one), so
   // one uploaded mesh serves both.
   mesh_ = renderer_->add_skinned_mesh(avatar.mesh);
+  avatars_.reserve(std::max<std::size_t>(site.spots.size(), 1));
+  lines_.reserve(avatars_.capacity());
   frame_.width = 2 * view_width;
   frame_.height = view_height;
   frame_.rgb.assign(static_cast<std::size_t>(frame_.width) * view_height * 3, 0);
@@ -44,27 +46,36 @@ SiteView::~SiteView() {
 }
 
 void SiteView::draw(const AvatarPicture& user, const AvatarPicture* remote) {
-  draw_view(&user, 0);
+  draw(user, remote != nullptr ? std::span<const AvatarPicture>(remote, 1)
+                               : std::span<const AvatarPicture>());
+}
+
+void SiteView::draw(const AvatarPicture& user, std::span<const AvatarPicture> remote) {
+  draw_view({&user, 1}, 0);
   draw_view(remote, 1);
   if (video_) {
     video_->write(frame_);
   }
 }
 
-void SiteView::draw_view(const AvatarPicture* picture, int column) {
-  std::array<render::AvatarDraw, 1> avatars;
-  std::array<render::DebugLine, 1> lines;
-  render::SceneView view;
-  view.camera = camera_;
-  if (picture != nullptr) {
-    avatars[0] = {mesh_, picture->T_world_model, picture->T_model_joint};
-    view.avatars = avatars;
-    if (picture->show_ray) {
-      lines[0].from = picture->ray_from;
-      lines[0].to = picture->ray_to;
-      view.lines = lines;
+void SiteView::draw_view(std::span<const AvatarPicture> pictures, int column) {
+  avatars_.clear();
+  lines_.clear();
+  for (const AvatarPicture& picture : pictures) {
+    if (avatars_.size() == avatars_.capacity()) {
+      break;  // more than the site has spots for: never, as people take spots
+    }
+    avatars_.push_back({mesh_, picture.T_world_model, picture.T_model_joint});
+    if (picture.show_ray) {
+      render::DebugLine& line = lines_.emplace_back();
+      line.from = picture.ray_from;
+      line.to = picture.ray_to;
     }
   }
+  render::SceneView view;
+  view.camera = camera_;
+  view.avatars = avatars_;
+  view.lines = lines_;
   const render::RenderTarget target = context_.target();
   renderer_->render(view, target);
   context_.present();

@@ -1,7 +1,7 @@
 #pragma once
 // A site's headless picture (render/): two views of this room from the site's camera, side by
 // side in one frame: on the left its own user (an avatar copying their pose where they stand), on
-// the right the remote person's avatar as translated into this room. Frames go to a video (one
+// the right the remote people's avatars as translated into this room. Frames go to a video (one
 // per site; the demo puts the sites' halves together) and the last one can be saved as a PNG.
 //
 // Rendering needs an EGL surfaceless context (Mesa; llvmpipe without a GPU). draw() allocates
@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "avatar/avatar_loader.h"
 #include "render/headless_context.h"
@@ -46,12 +47,15 @@ class SiteView {
 
   // Draws both views (`remote` null: the avatar is hidden) and appends the frame to the video.
   void draw(const AvatarPicture& user, const AvatarPicture* remote);
+  // The same with every visible remote person's avatar in the right view (a room of several
+  // people, site/remote_people.h); at most one per spot of the site.
+  void draw(const AvatarPicture& user, std::span<const AvatarPicture> remote);
   const render::Image& frame() const { return frame_; }
   // Finishes the video; throws deixis::Error if ffmpeg failed.
   void finish();
 
  private:
-  void draw_view(const AvatarPicture* picture, int column);
+  void draw_view(std::span<const AvatarPicture> pictures, int column);
 
   int view_width_;
   int view_height_;
@@ -59,6 +63,8 @@ class SiteView {
   render::HeadlessContext context_;
   std::optional<render::Renderer> renderer_;
   render::SkinnedMeshId mesh_;
+  std::vector<render::AvatarDraw> avatars_;  // sized at construction: one per spot
+  std::vector<render::DebugLine> lines_;
   render::Image view_;   // one view, read back
   render::Image frame_;  // both views side by side
   std::unique_ptr<render::VideoWriter> video_;

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <vector>
+
 #include "core/error.h"
 #include "test_support.h"
 
@@ -13,7 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 TEST(SiteConfig, TheDemoSitesLoad) {
-  for (const char* name : {"a.json", "b.json"}) {
+  for (const char* name : {"a.json", "b.json", "c.json"}) {
     const SiteConfig site = read_site_config(testing::source_dir() / "assets/sites" / name);
     EXPECT_FALSE(site.target_map.objects.empty());
     ASSERT_TRUE(site.virtual_user.has_value());
@@ -98,6 +101,155 @@ TEST(SiteConfig, HostileFilesAreRefusedNamingFileAndPlace) {
   for (const auto& [text, expected] : cases) {
     try {
       parse_site_config(text, "sites/t.json", base);
+      ADD_FAILURE() << "accepted: " << expected;
+    } catch (const deixis::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(SiteConfig, TheDemoSitesHaveTwoSpotsInRoomsFurnishedDifferently) {
+  std::vector<SiteConfig> sites;
+  for (const char* name : {"a.json", "b.json", "c.json"}) {
+    sites.push_back(read_site_config(testing::source_dir() / "assets/sites" / name));
+    const SiteConfig& site = sites.back();
+    ASSERT_EQ(site.spots.size(), 2u) << name;
+    // The first spot is the direct session's avatar; every spot faces the user within 45°.
+    EXPECT_TRUE(site.remote_avatar.floor.isApprox(site.spots[0].floor));
+    for (const Placement& spot : site.spots) {
+      const Vec3 facing = spot.T_world_floor().rotation * Vec3(0, 0, -1);
+      const Vec3 to_user = (site.user.floor - spot.floor).normalized();
+      EXPECT_GT(facing.dot(to_user), std::cos(45.0f * 3.14159265f / 180.0f)) << name;
+    }
+  }
+  // The same object ids in every room, at other places.
+  for (std::size_t i = 1; i < sites.size(); ++i) {
+    ASSERT_EQ(sites[i].target_map.objects.size(), sites[0].target_map.objects.size());
+    for (const TargetObject& object : sites[0].target_map.objects) {
+      const TargetObject* there = sites[i].target_map.find(object.id);
+      ASSERT_NE(there, nullptr);
+      EXPECT_EQ(there->name, object.name);
+      EXPECT_GT((there->position - object.position).norm(), 0.3f) << object.name;
+    }
+  }
+}
+
+const char kOneSpot[] =
+    R"("remote_avatar": { "floor": [0, 0, -2], "yaw_degrees": 180, "avatar": "x.glb" })";
+
+TEST(SiteConfig, ASpotListKeepsItsOrder) {
+  const std::string text = with(kOneSpot, R"("remote_avatar": { "avatar": "x.glb", "spots": [
+        { "floor": [0, 0, -2], "yaw_degrees": 180 }, { "floor": [1, 0, -1.5], "yaw_degrees": 150 },
+        { "floor": [-1, 0, -1.5], "yaw_degrees": -150 } ] })");
+  const SiteConfig site = parse_site_config(text, "sites/t.json", testing::source_dir() / "assets");
+  ASSERT_EQ(site.spots.size(), 3u);
+  EXPECT_TRUE(site.spots[1].floor.isApprox(Vec3(1, 0, -1.5f)));
+  EXPECT_FLOAT_EQ(site.spots[2].yaw_degrees, -150.0f);
+  EXPECT_TRUE(site.remote_avatar.floor.isApprox(Vec3(0, 0, -2)));
+  EXPECT_EQ(site.avatar_path.filename(), "x.glb");
+  // The one-spot form is a list of one.
+  EXPECT_EQ(parse_site_config(with("", ""), "sites/t.json", testing::source_dir() / "assets")
+                .spots.size(),
+            1u);
+}
+
+TEST(SiteConfig, BadSpotsAreNamed) {
+  const fs::path base = testing::source_dir() / "assets";
+  std::string many;
+  for (int i = 0; i < 65; ++i) {
+    many += std::string(i > 0 ? ", " : "") + "{ \"floor\": [" + std::to_string(i) +
+            ", 0, -2], \"yaw_degrees\": 0 }";
+  }
+  const auto spots = [](const std::string& list) {
+    return R"("remote_avatar": { "avatar": "x.glb", "spots": )" + list + " }";
+  };
+  const std::pair<std::string, std::string> cases[] = {
+      {spots("[]"), "sites/t.json: remote_avatar.spots: expected an array of 1 to 64 spots"},
+      {spots("{}"), "sites/t.json: remote_avatar.spots: expected an array of 1 to 64 spots"},
+      {spots("[" + many + "]"), "remote_avatar.spots: expected an array of 1 to 64 spots"},
+      {spots(R"([{ "floor": [0, 0, "x"], "yaw_degrees": 0 }])"),
+       "sites/t.json: remote_avatar.spots[0].floor[2]: not a finite number"},
+      {spots(R"([{ "floor": [0, 0, 1], "yaw_degrees": 0 }, { "floor": [0, 0, 1] }])"),
+       "sites/t.json: remote_avatar.spots[1]: missing field 'yaw_degrees'"},
+      {spots(R"([{ "floor": [0, 0, 1], "yaw_degrees": 0 }, 3])"),
+       "sites/t.json: remote_avatar.spots[1]: expected an object"},
+      {spots(R"([{ "floor": [0, 0, 1], "yaw_degrees": 0, "avatar": "y.glb" }])"),
+       "sites/t.json: remote_avatar.spots[0].avatar: every spot wears remote_avatar.avatar"},
+      {spots(
+           R"([{ "floor": [0, 0, 1], "yaw_degrees": 0 }, { "floor": [0.1, 0, 1.2], "yaw_degrees": 9 }])"),
+       "sites/t.json: remote_avatar.spots[1].floor: less than 0.4 m from spots[0]"},
+      {R"("remote_avatar": { "avatar": "x.glb", "floor": [0, 0, 1], "yaw_degrees": 0, "spots": [] })",
+       "sites/t.json: remote_avatar: unknown field 'floor'"},
+      {R"("remote_avatar": { "floor": [0, 0, 1], "yaw_degrees": 0 })",
+       "sites/t.json: remote_avatar: missing field 'avatar'"},
+  };
+  for (const auto& [replacement, expected] : cases) {
+    try {
+      parse_site_config(with(kOneSpot, replacement), "sites/t.json", base);
+      ADD_FAILURE() << "accepted: " << expected;
+    } catch (const deixis::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+}
+
+const char kOneStep[] = R"([ { "action": "point", "target": 1 } ])";
+const char kTwoSpots[] = R"("remote_avatar": { "avatar": "x.glb", "spots": [
+    { "floor": [0, 0, -2], "yaw_degrees": 180 }, { "floor": [1, 0, -1.5], "yaw_degrees": 150 } ] })";
+
+// The test site with two spots and `script`.
+std::string with_script(const std::string& script) {
+  std::string text = with(kOneStep, script);
+  text.replace(text.find(kOneSpot), std::string(kOneSpot).size(), kTwoSpots);
+  return text;
+}
+
+TEST(SiteConfig, ScriptStepsNamePeopleBySite) {
+  const SiteConfig site = parse_site_config(with_script(R"([
+      { "action": "look_at", "person": "B", "seconds": 1 },
+      { "action": "point", "person": "C" },
+      { "action": "point", "target": 1 },
+      { "action": "look_at", "person": "B" } ])"),
+                                            "sites/t.json", testing::source_dir() / "assets");
+  const VirtualUser& user = *site.virtual_user;
+  ASSERT_EQ(user.people, (std::vector<std::string>{"B", "C"}));
+  ASSERT_EQ(user.script.size(), 4u);
+  EXPECT_EQ(user.script[0].target, script_person_target(0));
+  EXPECT_EQ(user.script[0].person, "B");
+  EXPECT_EQ(user.script[1].target, script_person_target(1));
+  EXPECT_EQ(user.script[2].target, 1);
+  EXPECT_TRUE(user.script[2].person.empty());
+  EXPECT_EQ(user.script[3].target, script_person_target(0));
+  EXPECT_TRUE(is_script_person_target(user.script[1].target));
+  EXPECT_FALSE(is_script_person_target(kNoTarget));
+  EXPECT_EQ(script_person_index(script_person_target(5)), 5u);
+}
+
+TEST(SiteConfig, BadPersonStepsAreNamed) {
+  const fs::path base = testing::source_dir() / "assets";
+  const std::pair<std::string, std::string> cases[] = {
+      {R"([{ "action": "touch", "person": "B" }])",
+       "sites/t.json: virtual_user.script[0].person: 'touch' takes no person"},
+      {R"([{ "action": "rest", "person": "B" }])",
+       "sites/t.json: virtual_user.script[0].person: 'rest' takes no person"},
+      {R"([{ "action": "point", "person": "B", "target": 1 }])",
+       "sites/t.json: virtual_user.script[0].person: give either a target or a person"},
+      {R"([{ "action": "point", "person": "T" }])",
+       "sites/t.json: virtual_user.script[0].person: 'T' is this site"},
+      {R"([{ "action": "point", "person": 3 }])",
+       "sites/t.json: virtual_user.script[0].person: expected a string"},
+      {R"([{ "action": "point", "person": "" }])",
+       "sites/t.json: virtual_user.script[0].person: expected 1 to 64 bytes"},
+      {R"([{ "action": "point", "person": "B\u0007" }])",
+       "sites/t.json: virtual_user.script[0].person: not valid UTF-8 text"},
+      {R"([{ "action": "point", "person": "B" }, { "action": "look_at", "person": "C" },
+           { "action": "look_at", "person": "D" }])",
+       "sites/t.json: virtual_user.script[2].person: the script names more people than "
+       "remote_avatar has spots (2)"},
+  };
+  for (const auto& [script, expected] : cases) {
+    try {
+      parse_site_config(with_script(script), "sites/t.json", base);
       ADD_FAILURE() << "accepted: " << expected;
     } catch (const deixis::Error& e) {
       EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();

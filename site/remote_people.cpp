@@ -1,0 +1,291 @@
+#include "site/remote_people.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "core/error.h"
+
+namespace deixis::site {
+
+struct RemotePeople::Slot {
+  Pose T_world_origin;  // the spot's avatar root O
+  bool taken = false;
+  bool live = false;
+  PersonStats stats;
+  std::optional<presence::RemoteAvatar> avatar;
+  std::optional<presence::PoseCopy> copy;         // the copy-paste baseline, when measuring
+  std::optional<eval::DeicticObserver> observer;  // when measuring
+};
+
+RemotePeople::RemotePeople(const SiteConfig& site, const std::array<MoeNetworks, 2>& networks,
+                           const ik::AvatarSolver& solver, const RemotePeopleOptions& options)
+    : site_(site), networks_(networks), solver_(solver), options_(options) {
+  slots_.reserve(site.spots.size());
+  for (std::size_t i = 0; i < site.spots.size(); ++i) {
+    slots_.push_back(std::make_unique<Slot>());
+    slots_.back()->T_world_origin = presence::avatar_origin(solver, site.spots[i].T_world_floor());
+    slots_.back()->stats.spot = i;
+  }
+  targets_.reserve(slots_.size() + 1);
+  visible_.reserve(slots_.size());
+}
+
+RemotePeople::~RemotePeople() = default;
+
+RemotePeople::Slot* RemotePeople::find(PersonId id) {
+  for (const auto& slot : slots_) {
+    if (slot->taken && slot->stats.id == id) {
+      return slot.get();
+    }
+  }
+  return nullptr;
+}
+
+const RemotePeople::Slot* RemotePeople::find(PersonId id) const {
+  return const_cast<RemotePeople*>(this)->find(id);
+}
+
+const presence::RemoteAvatar& RemotePeople::meet(PersonId id, const net::Hello& hello) {
+  if (id == kNoPerson || id > kMaxPersonId) {
+    throw Error(site_.source + ": person id " + std::to_string(id) + " is not a person (1-254)");
+  }
+  Slot* slot = find(id);
+  if (slot != nullptr) {
+    fold_into_record(*slot);  // the same id met again: a new stay on the same spot
+  } else {
+    const auto free =
+        std::find_if(slots_.begin(), slots_.end(), [](const auto& s) { return !s->taken; });
+    if (free == slots_.end()) {
+      throw Error(site_.source + ": remote_avatar: " + std::to_string(slots_.size()) +
+                  " spot(s), all taken: no place for site " + hello.site +
+                  "'s person (add spots to remote_avatar.spots)");
+    }
+    slot = free->get();
+    ++present_;
+  }
+  const BodyCalibration& person = hello.avatar.body;
+  const MoeNetworks& n = networks_[static_cast<std::size_t>(index(person.deictic_hand))];
+  const std::size_t spot = slot->stats.spot;
+  slot->avatar.emplace(
+      n.mpnet, n.ugnet, solver_,
+      presence::RemoteAvatarConfig{person, site_.spots[spot].T_world_floor(),
+                                   static_cast<std::uint32_t>(id), options_.touch_contact});
+  slot->taken = true;
+  slot->live = true;
+  slot->stats = PersonStats{id, hello.site, spot};
+  if (options_.completions > 0) {
+    slot->copy.emplace(person, slot->T_world_origin, solver_.rig.height);
+    slot->observer.emplace(options_.completions);
+  }
+  ++record_of(hello.site).stays;
+  return *slot->avatar;
+}
+
+void RemotePeople::leave(PersonId id) {
+  Slot* slot = find(id);
+  if (slot == nullptr) {
+    return;
+  }
+  fold_into_record(*slot);
+  slot->taken = false;
+  slot->live = false;
+  slot->avatar.reset();
+  slot->copy.reset();
+  slot->observer.reset();
+  --present_;
+  list_visible();  // gone from the drawing at once, not at the next end_tick()
+}
+
+void RemotePeople::list_visible() {
+  visible_.clear();
+  for (const auto& slot : slots_) {
+    if (slot->taken && slot->live && slot->avatar->visible()) {
+      visible_.push_back(&*slot->avatar);
+    }
+  }
+}
+
+PersonRecord& RemotePeople::record_of(const std::string& site) {
+  for (PersonRecord& r : records_) {
+    if (r.site == site) {
+      return r;
+    }
+  }
+  PersonRecord& r = records_.emplace_back();
+  r.site = site;
+  return r;
+}
+
+// A stay ends (the person left, or was met again): its counters and samples go into the site's
+// record, and the slot's counters start over.
+void RemotePeople::fold_into_record(Slot& slot) {
+  PersonRecord& r = record_of(slot.stats.site);
+  r.frames_played += slot.stats.frames_played;
+  r.frames_missed += slot.stats.frames_missed;
+  r.visible_ticks += slot.stats.visible_ticks;
+  slot.stats.frames_played = slot.stats.frames_missed = slot.stats.visible_ticks = 0;
+  if (slot.observer) {
+    slot.observer->interrupt();
+    r.completions.insert(r.completions.end(), slot.observer->samples().begin(),
+                         slot.observer->samples().end());
+    r.completions_dropped += slot.observer->dropped();
+    slot.observer.emplace(options_.completions);
+  }
+}
+
+std::span<const PersonTarget> RemotePeople::people_targets(PersonId self, const Vec3& own_head) {
+  targets_.clear();
+  if (self != kNoPerson) {
+    targets_.push_back({self, own_head});
+  }
+  for (const auto& slot : slots_) {
+    if (slot->taken && slot->live && slot->avatar->visible() && slot->stats.id != self) {
+      targets_.push_back({slot->stats.id, slot->avatar->eye_midpoint()});
+    }
+  }
+  return targets_;
+}
+
+bool RemotePeople::play(const PersonFrame& f, const LocalTargets& room, double time) {
+  Slot* slot = find(f.person);
+  if (slot == nullptr) {
+    return false;
+  }
+  presence::RemoteAvatar& avatar = *slot->avatar;
+  avatar.tick(f.frame, room);
+  slot->stats.frames_played += f.frame != nullptr ? 1 : 0;
+  slot->stats.frames_missed += f.frame == nullptr ? 1 : 0;
+  if (slot->observer && f.frame != nullptr && avatar.visible() && room.map != nullptr) {
+    const eval::AvatarChain chain{avatar.eye_midpoint(), avatar.index_fingertip(),
+                                  slot->T_world_origin};
+    slot->observer->observe(*f.frame, f.sequence, time, chain, *slot->copy, *room.map,
+                            f.remote_map);
+  }
+  return true;
+}
+
+void RemotePeople::tick(std::span<const PersonFrame> frames, const LocalTargets& room,
+                        double time) {
+  // One by one for now: presence::tick_people batches the networks across people when it lands.
+  for (const PersonFrame& f : frames) {
+    play(f, room, time);
+  }
+}
+
+void RemotePeople::set_live(PersonId id, bool live) {
+  if (Slot* slot = find(id)) {
+    slot->live = live;
+  }
+}
+
+void RemotePeople::interrupt(PersonId id) {
+  if (Slot* slot = find(id); slot != nullptr && slot->observer) {
+    slot->observer->interrupt();
+  }
+}
+
+void RemotePeople::end_tick() {
+  list_visible();
+  for (const auto& slot : slots_) {
+    if (slot->taken && slot->live && slot->avatar->visible()) {
+      ++slot->stats.visible_ticks;
+    }
+  }
+}
+
+void RemotePeople::finish() {
+  for (const auto& slot : slots_) {
+    if (slot->taken && slot->observer) {
+      slot->observer->interrupt();
+    }
+  }
+}
+
+const presence::RemoteAvatar* RemotePeople::avatar(PersonId id) const {
+  const Slot* slot = find(id);
+  return slot != nullptr ? &*slot->avatar : nullptr;
+}
+
+PersonId RemotePeople::find_site(std::string_view site) const {
+  for (const auto& slot : slots_) {
+    if (slot->taken && slot->stats.site == site) {
+      return slot->stats.id;
+    }
+  }
+  return kNoPerson;
+}
+
+const PersonStats* RemotePeople::stats(PersonId id) const {
+  const Slot* slot = find(id);
+  return slot != nullptr ? &slot->stats : nullptr;
+}
+
+std::vector<PersonStats> RemotePeople::present() const {
+  std::vector<PersonStats> out;
+  for (const auto& slot : slots_) {
+    if (slot->taken) {
+      out.push_back(slot->stats);
+    }
+  }
+  return out;
+}
+
+std::vector<PersonRecord> RemotePeople::records() const {
+  std::vector<PersonRecord> out = records_;
+  for (const auto& slot : slots_) {
+    if (!slot->taken) {
+      continue;
+    }
+    auto r = std::find_if(out.begin(), out.end(),
+                          [&](const PersonRecord& p) { return p.site == slot->stats.site; });
+    r->frames_played += slot->stats.frames_played;
+    r->frames_missed += slot->stats.frames_missed;
+    r->visible_ticks += slot->stats.visible_ticks;
+    if (slot->observer) {
+      r->completions.insert(r->completions.end(), slot->observer->samples().begin(),
+                            slot->observer->samples().end());
+      r->completions_dropped += slot->observer->dropped();
+    }
+  }
+  return out;
+}
+
+namespace {
+
+// One target of a scripted frame; true when it named a person nobody here is.
+bool resolve_target(TargetId& target, Vec3& position, std::span<const std::string> names,
+                    const RemotePeople& people, bool direct) {
+  if (!is_script_person_target(target)) {
+    return false;
+  }
+  const std::size_t k = script_person_index(target);
+  const PersonId id = k < names.size() ? people.find_site(names[k]) : kNoPerson;
+  const presence::RemoteAvatar* avatar = people.avatar(id);
+  if (avatar == nullptr) {
+    target = kNoTarget;
+    return true;
+  }
+  target = direct ? kPartnerTarget : person_target(id);
+  if (avatar->visible()) {
+    position = avatar->eye_midpoint();
+  }
+  return false;
+}
+
+}  // namespace
+
+Vec3 expected_person_head(const SiteConfig& site, const ik::AvatarSolver& solver, std::size_t k) {
+  return presence::avatar_origin(solver, site.spots.at(k).T_world_floor()).translation;
+}
+
+int resolve_script_people(TrackingFrame& frame, std::span<const std::string> names,
+                          const RemotePeople& people, bool direct) {
+  int unresolved = 0;
+  unresolved +=
+      resolve_target(frame.head_target, frame.head_target_position, names, people, direct) ? 1 : 0;
+  unresolved +=
+      resolve_target(frame.hand_target, frame.hand_target_position, names, people, direct) ? 1 : 0;
+  return unresolved;
+}
+
+}  // namespace deixis::site
