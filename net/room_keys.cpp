@@ -89,7 +89,9 @@ bool belongs_on(std::uint8_t type, Channel channel) {
   const bool reliable = type == static_cast<std::uint8_t>(MessageType::kHello) ||
                         type == static_cast<std::uint8_t>(MessageType::kTargetMap) ||
                         type == static_cast<std::uint8_t>(MessageType::kHeartbeat) ||
-                        type == static_cast<std::uint8_t>(MessageType::kBye);
+                        type == static_cast<std::uint8_t>(MessageType::kBye) ||
+                        type == static_cast<std::uint8_t>(MessageType::kAvatarRequest) ||
+                        type == static_cast<std::uint8_t>(MessageType::kAvatarData);
   return channel == Channel::kTracking ? tracking : reliable;
 }
 

@@ -65,6 +65,7 @@ struct RoomSession::Member {
   std::optional<RoomOpener> opener;
   std::optional<Hello> hello;
   std::optional<TargetMap> map;
+  AvatarReceiver avatar_rx;  // its file, when asked for
   JitterBuffer jitter;
   double last_heard = 0.0;
   double budget_packets = 0.0;
@@ -113,6 +114,12 @@ RoomSession::RoomSession(RoomTransport& transport, RoomConfig config)
       drop_log_(config_.logger),
       sealed_tx_(kSealedBufferBytes),
       plain_rx_(kMaxPacketBytes) {
+  if (config_.avatar_file) {
+    // Our hello names the file by its hash: a member that has it cached never asks for it.
+    avatar_tx_ = AvatarSender(*config_.avatar_file, "room: our avatar file");
+    config_.hello.avatar.model = avatar_tx_.model();
+    avatar_chunk_tx_.resize(kAvatarDataHeaderBytes + kAvatarChunkMaxBytes);
+  }
   if (WireResult e = encode(config_.hello, hello_bytes_); !e.ok()) {
     throw Error(wire_message("room: our hello", e));
   }
@@ -452,6 +459,8 @@ void RoomSession::gone(Member& m, LeftBecause why) {
   }
   m.opener.reset();
   m.jitter.reset();
+  m.avatar_rx.reset();
+  avatar_tx_.forget(m.id);
 }
 
 void RoomSession::release(Member& m) {
@@ -535,6 +544,8 @@ void RoomSession::poll(double now) {
                    now - m.last_heard);
       }
       gone(m, LeftBecause::kTimedOut);
+    } else if (m.stage == Stage::kVerified) {
+      send_avatar_chunks(m);
     }
   }
   if (now >= next_heartbeat_) {
@@ -633,11 +644,15 @@ void RoomSession::set_hello(const Hello& hello) {
     throw Error("room: our hello cannot change the site's name ('" + config_.hello.site + "' to '" +
                 hello.site + "')");
   }
+  Hello ours = hello;
+  if (avatar_tx_.has_file()) {
+    ours.avatar.model = avatar_tx_.model();  // the file we send stays the one we name
+  }
   std::vector<std::byte> bytes;
-  if (WireResult e = encode(hello, bytes); !e.ok()) {
+  if (WireResult e = encode(ours, bytes); !e.ok()) {
     throw Error(wire_message("room: our hello", e));
   }
-  config_.hello = hello;
+  config_.hello = ours;
   hello_bytes_ = std::move(bytes);
   if (state_ == RoomState::kInRoom) {
     send_to_verified(Channel::kReliable, hello_bytes_);
@@ -755,6 +770,10 @@ void RoomSession::dispatch(Member& m, Channel channel, std::span<const std::byte
       m.last_heard = now_;
       return;
     }
+    case MessageType::kAvatarRequest:
+      return on_avatar_request(m, inner);
+    case MessageType::kAvatarData:
+      return on_avatar_data(m, inner);
     case MessageType::kBye: {
       Bye b;
       if (WireResult e = decode(inner, b); !e.ok()) {
@@ -820,6 +839,87 @@ void RoomSession::on_tracking(Member& m, Channel channel, std::span<const std::b
   m.last_heard = now_;
   ++m.stats.tracking_received;
   m.jitter.push(tracking_rx_.sequence, tracking_rx_.frame, now_);
+}
+
+// ---- avatar files (net/avatar_transfer.h) ----
+
+void RoomSession::on_avatar_request(Member& m, std::span<const std::byte> inner) {
+  AvatarRequest request;
+  if (WireResult e = decode(inner, request); !e.ok()) {
+    return drop(&m, m.id, Channel::kReliable, inner, e);
+  }
+  m.last_heard = now_;
+  if (!avatar_tx_.on_request(m.id, request.hash, now_)) {
+    return drop(&m, m.id, Channel::kReliable, inner,
+                wire_error(DropReason::kUnexpected, "avatar_request.hash"));
+  }
+  ++stats_.avatar_requests_received;
+}
+
+void RoomSession::on_avatar_data(Member& m, std::span<const std::byte> inner) {
+  AvatarData chunk;
+  if (WireResult e = decode(inner, chunk); !e.ok()) {
+    return drop(&m, m.id, Channel::kReliable, inner, e);
+  }
+  m.last_heard = now_;
+  const AvatarReceiveStatus before = m.avatar_rx.status();
+  if (!m.avatar_rx.on_data(chunk)) {
+    return drop(&m, m.id, Channel::kReliable, inner,
+                wire_error(DropReason::kUnexpected, "avatar_data.hash"));
+  }
+  ++m.stats.avatar_chunks_received;
+  const AvatarReceiveStatus after = m.avatar_rx.status();
+  if (before == AvatarReceiveStatus::kReceiving && after != before) {
+    if (after == AvatarReceiveStatus::kFailed) {
+      log().warn("room: the avatar file from {} was abandoned: {}", m.label.data(),
+                 m.avatar_rx.failure());
+    }
+    push_event(RoomEventKind::kAvatarFile, m.id);
+  }
+}
+
+void RoomSession::send_avatar_chunks(Member& m) {
+  if (!avatar_tx_.has_file()) {
+    return;
+  }
+  // A few chunks at most per poll; the sender's pace decides when each is due. Each goes to the
+  // member that asked only.
+  for (int i = 0; i < 4; ++i) {
+    const std::optional<AvatarData> chunk = avatar_tx_.next_chunk(m.id, now_);
+    if (!chunk) {
+      return;
+    }
+    const std::size_t n = encode(*chunk, avatar_chunk_tx_);
+    if (n == 0 || !send_to(m.id, Channel::kReliable, std::span(avatar_chunk_tx_).first(n))) {
+      avatar_tx_.forget(m.id);
+      return;
+    }
+    ++stats_.avatar_chunks_sent;
+  }
+}
+
+std::optional<AvatarHash> RoomSession::avatar_hash(MemberId person) const {
+  const Hello* h = hello(person);
+  return h ? parse_avatar_hash(h->avatar.model) : std::nullopt;
+}
+
+bool RoomSession::request_avatar(MemberId person) {
+  const std::optional<AvatarHash> hash = avatar_hash(person);
+  Member* m = find(person);
+  if (!hash || m == nullptr) {
+    return false;
+  }
+  std::array<std::byte, kAvatarRequestBytes> bytes{};
+  encode(AvatarRequest{*hash}, bytes);
+  m->avatar_rx.expect(*hash);
+  log().info("room: asking {} for their avatar file {}", m->label.data(),
+             to_hex(*hash).substr(0, 12));
+  return send_to(person, Channel::kReliable, bytes);
+}
+
+const AvatarReceiver* RoomSession::avatar_download(MemberId person) const {
+  const Member* m = find_person(person);
+  return m ? &m->avatar_rx : nullptr;
 }
 
 // ---- the site's side ----

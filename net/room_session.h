@@ -36,6 +36,7 @@
 #include <string_view>
 #include <vector>
 
+#include "net/avatar_transfer.h"
 #include "net/drop_log.h"
 #include "net/jitter_buffer.h"
 #include "net/key_derivation.h"
@@ -99,6 +100,7 @@ enum class RoomEventKind : std::uint8_t {
   kHelloChanged,      // they said hello again, with something else
   kTargetMapChanged,  // their target map (first or new)
   kLeft,              // gone (why: LeftBecause): hide them, free their spot
+  kAvatarFile,        // the avatar file asked for is complete or abandoned (avatar_download)
 };
 enum class LeftBecause : std::uint8_t { kLeft, kBye, kTimedOut, kFlooded, kRelayLost, kClosed };
 std::string_view left_because_name(LeftBecause why);
@@ -124,6 +126,9 @@ struct RoomConfig {
   PeerBudget budget;                // per member
   JitterConfig jitter;              // per person
   std::shared_ptr<spdlog::logger> logger;  // null: spdlog's default logger
+  // The avatar file our person chose, sent to each member that asks for it
+  // (net/avatar_transfer.h); our hello then names it by its hash. Null: none.
+  std::shared_ptr<const std::vector<std::byte>> avatar_file;
 };
 
 struct RoomStats {
@@ -140,7 +145,9 @@ struct RoomStats {
   std::uint64_t parts_not_sent = 0;  // tracked parts the encoder could not represent
   std::uint64_t sends = 0;           // payloads handed to the transport
   std::uint64_t send_failures = 0;
-  std::uint64_t events_coalesced = 0;  // events already waiting to be taken
+  std::uint64_t events_coalesced = 0;          // events already waiting to be taken
+  std::uint64_t avatar_requests_received = 0;  // for our file
+  std::uint64_t avatar_chunks_sent = 0;
 };
 
 struct PersonStats {
@@ -148,7 +155,8 @@ struct PersonStats {
   std::uint64_t hellos = 0;
   std::uint64_t target_maps = 0;
   std::uint64_t heartbeats = 0;
-  DropCounters drops;  // this member's packets dropped, by reason
+  std::uint64_t avatar_chunks_received = 0;  // taken by the download
+  DropCounters drops;                        // this member's packets dropped, by reason
 };
 
 class RoomSession final : public RelayListener {
@@ -186,6 +194,12 @@ class RoomSession final : public RelayListener {
   // The person's next tracking result (jitter_buffer.h); kNoStream for anyone not in people().
   Playout next_playout(MemberId person, double now);
   const JitterStats* jitter(MemberId person) const;
+  // The avatar file the person's hello names (nullopt: none, the receiving site chooses).
+  std::optional<AvatarHash> avatar_hash(MemberId person) const;
+  // Asks the person for that file (the site's cache lacks it): false when there is none to ask
+  // for. The download fills avatar_download(person); kAvatarFile says when it is done.
+  bool request_avatar(MemberId person);
+  const AvatarReceiver* avatar_download(MemberId person) const;
   const PersonStats* person_stats(MemberId person) const;
 
   RoomState state() const { return state_; }
@@ -230,6 +244,9 @@ class RoomSession final : public RelayListener {
   void on_hello(Member& m, std::span<const std::byte> inner);
   void on_target_map(Member& m, std::span<const std::byte> inner);
   void on_tracking(Member& m, Channel channel, std::span<const std::byte> inner);
+  void on_avatar_request(Member& m, std::span<const std::byte> inner);
+  void on_avatar_data(Member& m, std::span<const std::byte> inner);
+  void send_avatar_chunks(Member& m);
   void gone(Member& m, LeftBecause why);  // the person leaves the site; the slot may stay
   void release(Member& m);                // the slot is free again
   void forget_everyone(LeftBecause why);
@@ -260,7 +277,9 @@ class RoomSession final : public RelayListener {
   // Ours, encoded once (and on set_target_map).
   std::vector<std::byte> hello_bytes_;
   std::vector<std::byte> map_bytes_;
-  RoomParams own_params_;  // proposed if the room is empty
+  RoomParams own_params_;                   // proposed if the room is empty
+  AvatarSender avatar_tx_;                  // our file, if we have one
+  std::vector<std::byte> avatar_chunk_tx_;  // one avatar-data packet
 
   // This entry.
   MemberId self_ = kNoMember;

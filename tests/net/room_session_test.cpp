@@ -177,6 +177,40 @@ TEST(Room, ANewHelloOrTargetMapReachesEveryoneAsAChange) {
   EXPECT_THROW(room.members[0]->set_hello(taller), deixis::Error);
 }
 
+TEST(Room, AChosenAvatarFileGoesOnlyToTheMemberThatAsksAndArrivesWhole) {
+  std::vector<std::byte> file(100'000);
+  for (std::size_t i = 0; i < file.size(); ++i) {
+    file[i] = static_cast<std::byte>((i * 7919u) >> 3);
+  }
+  RoomHarness room;
+  RoomConfig a = room_config("A", "pw");
+  a.avatar_file = std::make_shared<const std::vector<std::byte>>(file);
+  room.add(a);
+  room.run_until([] { return false; }, 0.1);
+  room.add(room_config("B", "pw"));
+  room.run_until([] { return false; }, 0.1);
+  room.add(room_config("C", "pw"));
+  ASSERT_TRUE(room.run_until([&] { return room.everyone_sees({0, 1, 2}, 2); }, 2.0));
+  RoomSession& b = *room.members[1];
+  const MemberId a_id = room.members[0]->self();
+  ASSERT_TRUE(b.avatar_hash(a_id));
+  EXPECT_EQ(*b.avatar_hash(a_id), avatar_hash(file));
+  EXPECT_FALSE(b.avatar_hash(room.members[2]->self()));  // C chose none
+  events_of(b);
+  ASSERT_TRUE(b.request_avatar(a_id));
+  ASSERT_TRUE(room.run_until(
+      [&] { return b.avatar_download(a_id)->status() == AvatarReceiveStatus::kComplete; }, 3.0));
+  const auto got = b.avatar_download(a_id)->file();
+  EXPECT_TRUE(std::equal(got.begin(), got.end(), file.begin(), file.end()));
+  const auto ev = events_of(b);
+  EXPECT_TRUE(std::any_of(ev.begin(), ev.end(),
+                          [](const RoomEvent& e) { return e.kind == RoomEventKind::kAvatarFile; }));
+  EXPECT_EQ(room.members[2]->person_stats(a_id)->avatar_chunks_received, 0u);
+  EXPECT_EQ(room.members[2]->drops()[DropReason::kUnexpected], 0u);  // C was sent no chunk
+  EXPECT_GE(room.members[0]->stats().avatar_chunks_sent, 7u);
+  EXPECT_EQ(room.members[0]->stats().avatar_requests_received, 1u);
+}
+
 TEST(Room, AnOpenRoomExchangesEverythingInTheClear) {
   ThreeInARoom room("", "", "");
   ASSERT_TRUE(room.run_until([&] { return room.everyone_sees({0, 1, 2}, 2); }, 2.0));
