@@ -360,6 +360,34 @@ void add_join(CLI::App& program, const Invocation&, std::vector<Runner>& runners
        }});
 }
 
+// `deixis relay` (docs/relay.md): relay_command.cpp.
+void add_relay(CLI::App& program, const Invocation&, std::vector<Runner>& runners) {
+  auto o = std::make_shared<RelayOptions>();
+  CLI::App* cmd = program.add_subcommand(
+      "relay",
+      "A room server for meetings of several people: sites join a named room on it (join/sim/xr "
+      "--connect HOST:PORT --room NAME) and it forwards their tracking, hellos and target maps "
+      "to the others in the room and tells them who joined and left. It holds no passphrase and "
+      "sees rooms only by a hash of their names. Rooms with a passphrase are sealed end to end "
+      "(the relay sees sizes and timing only); rooms WITHOUT a passphrase are readable by "
+      "whoever runs the relay. Prints \"port N\" once listening; runs until SIGINT or SIGTERM, "
+      "then exits 0; exit 2 for bad flags or an address it cannot bind");
+  cmd->add_option("--port", o->port, "UDP port to listen on (0: any free port)")
+      ->capture_default_str();
+  cmd->add_option("--bind", o->bind,
+                  "Address to listen on (e.g. 0.0.0.0 to serve other machines: the relay holds "
+                  "no secrets, but open rooms are readable by its operator)")
+      ->capture_default_str();
+  cmd->add_option("--max-people", o->max_people,
+                  "People per room; one more is refused with \"room full\"")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 64));
+  cmd->add_option("--max-rooms", o->max_rooms, "Rooms at once; more are refused as \"relay full\"")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024));
+  runners.push_back({cmd, [o] { return run_relay(*o); }});
+}
+
 // `deixis demo` (docs/demo.md): demo_command.cpp.
 void add_demo(CLI::App& program, const Invocation&, std::vector<Runner>& runners) {
   auto demo = std::make_shared<WithPassphrase<DemoOptions>>();

@@ -36,6 +36,7 @@ void add_avatar(CLI::App& program, const Invocation& invocation, std::vector<Run
 void add_capture(CLI::App& program, const Invocation& invocation, std::vector<Runner>& runners);
 void add_host(CLI::App& program, const Invocation& invocation, std::vector<Runner>& runners);
 void add_join(CLI::App& program, const Invocation& invocation, std::vector<Runner>& runners);
+void add_relay(CLI::App& program, const Invocation& invocation, std::vector<Runner>& runners);
 void add_demo(CLI::App& program, const Invocation& invocation, std::vector<Runner>& runners);
 void add_xr(CLI::App& program, const Invocation& invocation, std::vector<Runner>& runners);
 void add_sim(CLI::App& program, const Invocation& invocation, std::vector<Runner>& runners);

@@ -94,6 +94,16 @@ struct DemoOptions {
 };
 int run_demo(const DemoOptions& options);
 
+// `deixis relay` (docs/relay.md): a room server. Prints "port N" once listening; runs until
+// SIGINT or SIGTERM, then exits 0; 2 when the address cannot be bound.
+struct RelayOptions {
+  std::string bind = "127.0.0.1";
+  std::uint16_t port = 7351;
+  std::size_t max_people = 8;
+  std::size_t max_rooms = 128;
+};
+int run_relay(const RelayOptions& options);
+
 // `deixis eval`: the paper's Tables I–IV and Fig. 5 on the held-out subjects (docs/eval.md).
 // Exit 0 done, 2 bad flags or files (including training-subject data).
 struct EvalOptions {

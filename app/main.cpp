@@ -27,6 +27,7 @@ constexpr deixis::app::AddCommand kCommands[] = {
     deixis::app::add_capture,  // capture_command.cpp: capture generate, preview, csv, judge
     deixis::app::add_host,     // site_command.cpp
     deixis::app::add_join,     // site_command.cpp
+    deixis::app::add_relay,    // relay_command.cpp
     deixis::app::add_demo,     // demo_command.cpp
     deixis::app::add_xr,       // xr_command.cpp
     deixis::app::add_sim,      // sim/sim_run.cpp

@@ -113,6 +113,13 @@ class Deixis {
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   }
 
+  // Sends `signal` to the child (the relay's SIGTERM test), while it runs.
+  void send_signal(int signal) {
+    if (pid_ > 0) {
+      kill(pid_, signal);
+    }
+  }
+
   const std::string& out() const { return text_[0]; }
   const std::string& err() const { return text_[1]; }
 
