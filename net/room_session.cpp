@@ -249,6 +249,10 @@ void RoomSession::on_entered(MemberId self, std::span<const std::uint8_t> room_p
                                                  ") is below this site's floor (" +
                                                  cost_text(config_.min_kdf) + ")");
   }
+  if (self < kFirstMember || self > kLastMember) {
+    return refuse(RoomRefusal::kBadRoomParams,
+                  "the relay gave this site member id " + std::to_string(self) + " (not 1-254)");
+  }
   room_params_ = p;
   self_ = self;
   state_ = RoomState::kInRoom;
@@ -278,6 +282,7 @@ void RoomSession::on_member_joined(const RoomMember& member) {
 }
 
 void RoomSession::on_member_left(MemberId id) {
+  ignored_[id] = false;
   if (Member* m = find(id)) {
     gone(*m, LeftBecause::kLeft);
     release(*m);
@@ -323,6 +328,7 @@ void RoomSession::add_member(MemberId id, std::span<const std::uint8_t> announce
   }
   if (slot == nullptr) {
     ++stats_.over_capacity;
+    ignored_[id] = true;
     if (warn_budget_.take(now_)) {
       log().warn("room: member {} ignored: {} members held already", id, config_.max_members);
     }
@@ -485,6 +491,7 @@ void RoomSession::forget_everyone(LeftBecause why) {
     }
   }
   self_ = kNoMember;
+  ignored_.fill(false);
 }
 
 void RoomSession::leave(double now) {
@@ -558,7 +565,7 @@ void RoomSession::poll(double now) {
 // ---- sending ----
 
 bool RoomSession::everyone_verified() const {
-  if (stats_.over_capacity > 0) {
+  if (std::find(ignored_.begin(), ignored_.end(), true) != ignored_.end()) {
     return false;  // members we do not hold may be anyone
   }
   for (std::size_t i = 0; i < config_.max_members; ++i) {

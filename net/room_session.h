@@ -298,6 +298,7 @@ class RoomSession final : public RelayListener {
   KdfCost master_cost_{0, 0};
 
   std::unique_ptr<Member[]> members_;  // max_members slots
+  std::array<bool, 256> ignored_{};    // in the room, not held (max_members were held already)
   std::array<MemberId, 256> people_{};
   std::size_t people_count_ = 0;
   std::vector<RoomEvent> events_;  // capacity fixed at construction

@@ -211,6 +211,30 @@ TEST(Room, AChosenAvatarFileGoesOnlyToTheMemberThatAsksAndArrivesWhole) {
   EXPECT_EQ(room.members[0]->stats().avatar_requests_received, 1u);
 }
 
+TEST(Room, AMemberBeyondWhatASiteHoldsIsIgnoredAndSentNothing) {
+  RoomHarness room;
+  RoomConfig small = room_config("A", "pw");
+  small.max_members = 2;
+  RoomSession& a = room.add(small);
+  for (const char* site : {"B", "C", "D"}) {
+    room.run_until([] { return false; }, 0.1);
+    room.add(room_config(site, "pw"));
+  }
+  const MemberId a_id = a.self();
+  std::uint64_t a_to_d = 0;
+  room.relay.on_forward = [&](testing::FakeRelay::Forward& f) {
+    a_to_d += (f.from == a_id && f.to == room.endpoints[3]) ? 1 : 0;
+    return true;
+  };
+  ASSERT_TRUE(room.run_until([&] { return room.everyone_sees({1, 2}, 3); }, 2.0));
+  stream(room, 30);
+  EXPECT_EQ(a.people().size(), 2u);
+  EXPECT_EQ(a.stats().over_capacity, 1u);
+  EXPECT_EQ(room.members[3]->people().size(), 2u);  // B and C, not A
+  EXPECT_FALSE(sees(*room.members[3], a_id));
+  EXPECT_EQ(a_to_d, 0u);
+}
+
 TEST(Room, AnOpenRoomExchangesEverythingInTheClear) {
   ThreeInARoom room("", "", "");
   ASSERT_TRUE(room.run_until([&] { return room.everyone_sees({0, 1, 2}, 2); }, 2.0));
