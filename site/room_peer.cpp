@@ -1,0 +1,193 @@
+#include "site/room_peer.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
+#include "core/error.h"
+
+namespace deixis::site {
+
+namespace {
+
+net::Hello hello_of(const SiteConfig& site, const BodyCalibration& user) {
+  net::Hello h;
+  h.site = site.site;
+  h.avatar.model = "";  // the receiving site chooses what the avatar wears
+  h.avatar.body = user;
+  return h;
+}
+
+net::RoomConfig room_config(const RoomPeerOptions& options, const SiteConfig& site,
+                            const BodyCalibration& user) {
+  net::RoomConfig c;
+  c.hello = hello_of(site, user);
+  c.target_map = site.target_map;
+  c.passphrase = options.passphrase;
+  return c;
+}
+
+}  // namespace
+
+RoomPeer::RoomPeer(const RoomPeerOptions& options, const SiteConfig& site,
+                   const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
+                   const ik::AvatarSolver& solver, double now)
+    : site_(site),
+      options_(options),
+      people_(site, networks, solver, options.people),
+      started_(now),
+      drop_rng_(options.drop_seed) {
+  if (options_.room.empty()) {
+    throw Error("room: a room name is needed (--room NAME)");
+  }
+  net::RelayClientOptions relay;
+  relay.host = options_.relay_host;
+  relay.port = options_.relay_port;
+  relay.room = net::room_token(options_.room);
+  client_ = std::make_unique<net::RelayClient>(relay, now);
+  transport_ = std::make_unique<net::RelayTransport>(*client_);
+  session_ = std::make_unique<net::RoomSession>(*transport_, room_config(options_, site, user));
+  // At most one frame per person per round: sized once for every spot.
+  batch_.reserve(people_.capacity());
+}
+
+RoomPeer::~RoomPeer() = default;
+
+void RoomPeer::service(double now, std::uint32_t wait_ms) {
+  session_->poll(now);
+  client_->poll(now, *session_, wait_ms);
+  take_events();
+  check(now);
+}
+
+void RoomPeer::check(double now) const {
+  if (session_->state() == net::RoomState::kRefused) {
+    throw Error("room " + options_.room + " at " + options_.relay_host + ":" +
+                std::to_string(options_.relay_port) + ": " + session_->refusal_text());
+  }
+  if (!entered_once_ && !in_room() && now - started_ > options_.wait) {
+    throw Error(client_->connected()
+                    ? "room " + options_.room + ": the relay at " + options_.relay_host + ":" +
+                          std::to_string(options_.relay_port) +
+                          " did not let this site in within " +
+                          std::to_string(static_cast<int>(options_.wait)) + " s"
+                    : "no relay answered at " + options_.relay_host + ":" +
+                          std::to_string(options_.relay_port) + " within " +
+                          std::to_string(static_cast<int>(options_.wait)) +
+                          " s (is `deixis relay` running there?)");
+  }
+}
+
+void RoomPeer::take_events() {
+  entered_once_ = entered_once_ || in_room();
+  net::RoomEvent e;
+  while (session_->next_event(e)) {
+    switch (e.kind) {
+      case net::RoomEventKind::kArrived:
+      case net::RoomEventKind::kHelloChanged:
+        if (const net::Hello* hello = session_->hello(e.person); hello != nullptr) {
+          try {
+            people_.meet(e.person, *hello);
+            spdlog::info("room {}: {} is here", options_.room, hello->site);
+          } catch (const Error& error) {
+            // More people than spots: this person is not shown here; the others go on.
+            ++stats_.people_refused;
+            spdlog::error("room {}: {} is not shown: {}", options_.room, hello->site, error.what());
+          }
+        }
+        break;
+      case net::RoomEventKind::kLeft:
+        if (const PersonStats* person = people_.stats(e.person); person != nullptr) {
+          spdlog::info("room {}: {} left ({})", options_.room, person->site,
+                       net::left_because_name(e.why));
+        }
+        people_.leave(e.person);
+        break;
+      case net::RoomEventKind::kTargetMapChanged:
+        break;  // read with each played frame
+      case net::RoomEventKind::kAvatarFile:
+        break;  // this site asks for no chosen avatars yet: everyone wears the site's own
+    }
+  }
+}
+
+void RoomPeer::poll(double now) {
+  service(now, 0);
+}
+
+void RoomPeer::tick(const TrackingFrame& user, double sampled, double now,
+                    const LocalTargets& room) {
+  ++stats_.ticks;
+  service(now, 0);
+  if (in_room()) {
+    TrackingFrame frame = user;
+    frame.time = sampled;  // the sampling time, not when a late loop got to it (as SitePeer)
+    if (options_.drop_tracking > 0.0 &&
+        std::uniform_real_distribution<double>(0.0, 1.0)(drop_rng_) < options_.drop_tracking) {
+      ++stats_.dropped_on_purpose;
+    } else if (session_->send_tracking(frame, sampled)) {
+      ++stats_.sent;
+    }
+  }
+  LocalTargets with_people = room;
+  with_people.people = people_.people_targets(session_->self(), user.T_world_head.translation);
+  play_due_frames(now, with_people);
+  people_.end_tick();
+}
+
+void RoomPeer::play_due_frames(double now, const LocalTargets& room) {
+  // Rounds of at most one frame per person, so that the networks run batched across people
+  // (RemotePeople::tick); a person who has more than one due frame (a late loop catching up)
+  // plays them over several rounds, in order.
+  for (bool more = true; more;) {
+    more = false;
+    batch_.clear();
+    for (const net::MemberId person : session_->people()) {
+      if (people_.avatar(person) == nullptr || batch_.size() == batch_.capacity()) {
+        continue;
+      }
+      const net::Playout p = session_->next_playout(person, now);
+      if (p.kind == net::PlayoutKind::kNoStream) {
+        // Their stream stopped (or has not begun): hidden until frames come again.
+        people_.set_live(person, false);
+        people_.interrupt(person);
+        continue;
+      }
+      if (p.kind == net::PlayoutKind::kPending) {
+        continue;
+      }
+      const bool missed = p.kind == net::PlayoutKind::kMissed;
+      people_.set_live(person, true);
+      stats_.played += missed ? 0 : 1;
+      stats_.missed += missed ? 1 : 0;
+      batch_.push_back(PersonFrame{person, missed ? nullptr : p.frame, p.sequence,
+                                   session_->target_map(person)});
+      more = true;
+    }
+    if (!batch_.empty()) {
+      people_.tick(batch_, room, now - started_);
+    }
+  }
+}
+
+void RoomPeer::wait(const SiteClock& clock, double until) {
+  double now = clock.now();
+  while (now < until) {
+    service(now, static_cast<std::uint32_t>(std::max(1.0, (until - now) * 1000.0)));
+    now = clock.now();
+  }
+}
+
+void RoomPeer::close(double now) {
+  if (closed_) {
+    return;
+  }
+  closed_ = true;
+  session_->leave(now);
+  client_->close(now);
+  people_.finish();
+}
+
+}  // namespace deixis::site
