@@ -70,6 +70,8 @@ class FakeRelay {
   };
   // Called for each forward before it is queued; false drops it.
   std::function<bool(Forward&)> on_forward;
+  // Called on each announce as the relay keeps it for the others (a relay that changes them).
+  std::function<void(std::vector<std::uint8_t>&)> on_announce;
 
   explicit FakeRelay(std::uint64_t seed = 1) : random_(seed) {
     items_.resize(4096);
@@ -197,6 +199,9 @@ class FakeRelay {
     e.id_ = fresh_id();
     e.in_room_ = true;
     e.announce_.assign(announce.begin(), announce.end());
+    if (on_announce) {
+      on_announce(e.announce_);
+    }
     // on_entered carries the room's params and everyone there, with their announces:
     // bytes = params, then per member: id, announce length, announce.
     std::vector<std::uint8_t> entered(params_);

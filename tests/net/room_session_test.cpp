@@ -275,6 +275,26 @@ TEST(Room, AWrongPassphraseSeesNoOneAndIsSeenByNoOne) {
   EXPECT_GE((s.played.at({0, b.self()})), 55u);
 }
 
+TEST(Room, ARelayThatChangesAnAnnounceGetsNoOneVerified) {
+  // The relay swaps B's exchange key for one of its own (a man in the middle): A's transcript
+  // and pair secret then differ from B's, B's proof does not open at A, and A never answers.
+  RoomHarness room;
+  RoomSession& a = room.add(room_config("A", "pw"));
+  room.run_until([] { return false; }, 0.1);
+  const Entry relay_keys = make_entry(AuthMode::kPassphrase);
+  room.relay.on_announce = [&](std::vector<std::uint8_t>& announce) {
+    std::copy(relay_keys.announce.key.begin(), relay_keys.announce.key.end(),
+              reinterpret_cast<std::byte*>(announce.data()) + 39);
+  };
+  RoomSession& b = room.add(room_config("B", "pw"));
+  room.run_until([] { return false; }, 1.0);
+  EXPECT_TRUE(a.people().empty());
+  EXPECT_TRUE(b.people().empty());
+  EXPECT_EQ(a.stats().auth_failures, 1u);
+  EXPECT_EQ(a.stats().key_messages_sent, 0u);  // nothing derived from the passphrase went back
+  EXPECT_EQ(b.stats().verified, 0u);
+}
+
 TEST(Room, AMemberWithoutAPassphraseRefusesASealedRoomClearlyAndViceVersa) {
   RoomHarness room;
   room.add(room_config("A", "pw"));
