@@ -1,6 +1,7 @@
 // The network layer's figures: bytes and time per tracking frame, sealing, the jitter
-// buffer, a streaming tick of two sessions, one frame through real ENet on loopback, and the
-// jitter-buffer delay against network jitter (the figure behind the 50 ms default).
+// buffer, a streaming tick of two sessions, one frame through real ENet on loopback, the
+// jitter-buffer delay against network jitter (the figure behind the 50 ms default), and the
+// relay's forwarding rate and added latency (docs/relay.md).
 //
 //   build/release/bench/net_bench
 //   build/release/bench/net_bench --benchmark_filter=JitterDelay --benchmark_repetitions=1
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <random>
 #include <vector>
 
@@ -17,6 +19,8 @@
 
 #include "net/enet_link.h"
 #include "net/jitter_buffer.h"
+#include "net/relay_client.h"
+#include "net/relay_server.h"
 #include "net/sealing.h"
 #include "net/session.h"
 #include "net/simulated_link.h"
@@ -320,5 +324,191 @@ BENCHMARK(BM_JitterDelay)
     ->ArgsProduct({{0, 17, 33, 50, 67, 100}, {0, 5, 10, 20}})
     ->ArgNames({"delay_ms", "jitter_ms"})
     ->Unit(benchmark::kMillisecond);
+
+// ---- The relay (docs/relay.md) ----
+
+// A room member that counts what reaches it.
+class CountingMember : public RelayListener {
+ public:
+  void on_relay_ready() override {
+    const std::array<std::uint8_t, 16> announce{};
+    client->enter({}, announce);
+  }
+  void on_entered(MemberId, std::span<const std::uint8_t>, std::span<const RoomMember>) override {}
+  void on_member_joined(const RoomMember&) override {}
+  void on_member_left(MemberId) override {}
+  void on_payload(MemberId, Channel, std::span<const std::uint8_t>) override { ++received; }
+  void on_refused(RelayRefusal) override {}
+  void on_relay_lost() override {}
+
+  RelayClient* client = nullptr;
+  std::uint64_t received = 0;
+};
+
+// A relay as `deixis relay` runs it (its link's peer limits, its defaults), with budgets opened
+// up: the benchmarks send far beyond what one member may.
+struct BenchRelay {
+  BenchRelay()
+      : link(EnetLink::host("127.0.0.1", 0, HostLimits{RelayServerConfig{}.max_connections, 64})),
+        server(*link, config()) {}
+  static RelayServerConfig config() {
+    RelayServerConfig c;
+    c.max_people = kMaxRoomPeople;
+    c.budget.packets_per_second = 1e9;
+    c.budget.bytes_per_second = 1e12;
+    c.logger = std::make_shared<spdlog::logger>("bench");  // no sinks: quiet
+    return c;
+  }
+  std::unique_ptr<EnetLink> link;
+  RelayServer server;
+};
+
+struct BenchRoom {
+  explicit BenchRoom(BenchRelay& relay, std::size_t people) : relay_(relay) {
+    RelayClientOptions o;
+    o.port = relay.link->port();
+    o.room = room_token("bench");
+    o.logger = std::make_shared<spdlog::logger>("bench");
+    members.resize(people);
+    for (std::size_t i = 0; i < people; ++i) {
+      clients.push_back(std::make_unique<RelayClient>(o, seconds()));
+      members[i].client = clients.back().get();
+    }
+    while (seconds() < 10.0 && relay.server.members_in(o.room) < people) {
+      step();
+    }
+    while (seconds() < 10.0 && !std::all_of(clients.begin(), clients.end(),
+                                            [](const auto& c) { return c->in_room(); })) {
+      step();
+    }
+  }
+  bool ready() const {
+    return std::all_of(clients.begin(), clients.end(), [](const auto& c) { return c->in_room(); });
+  }
+  double seconds() const { return seconds_since(start); }
+  void poll_members() {
+    for (std::size_t i = 0; i < clients.size(); ++i) {
+      clients[i]->poll(seconds(), members[i]);
+    }
+  }
+  void step() {
+    relay_.server.service(seconds(), 0);
+    poll_members();
+  }
+  std::uint64_t received() const {
+    std::uint64_t n = 0;
+    for (const CountingMember& m : members) {
+      n += m.received;
+    }
+    return n;
+  }
+
+  BenchRelay& relay_;
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  std::vector<std::unique_ptr<RelayClient>> clients;
+  std::vector<CountingMember> members;
+};
+
+// CPU time of this thread (s): what the relay's work costs a core, whatever else the machine runs.
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// The relay's forwarding rate on one core: every member of a room of N sends one tracking-sized
+// forward (100 bytes: a sealed tracking packet of docs/rooms-protocol.md) to everyone else, and
+// only the CPU time inside the relay's service() calls is counted (manual time), until all N·(N−1)
+// copies reached their members. What the relay does per datagram is all here: ENet's receive,
+// decoding, the fan-out, one send and flush per copy, the kernel's loopback.
+void BM_RelayForward(benchmark::State& state) {
+  const auto people = static_cast<std::size_t>(state.range(0));
+  BenchRelay relay;
+  BenchRoom room(relay, people);
+  if (!room.ready()) {
+    state.SkipWithError("the room did not fill over loopback");
+    return;
+  }
+  const std::vector<std::uint8_t> payload(100, 0x5A);
+  const std::uint64_t out_before = relay.server.stats().forwards_out;
+  const std::uint64_t in_before = relay.server.stats().forwards_in;
+  double relay_seconds = 0.0;
+  for (auto _ : state) {
+    const std::uint64_t expected = room.received() + people * (people - 1);
+    for (auto& c : room.clients) {
+      c->send(kAllMembers, Channel::kTracking, payload);
+    }
+    double busy = 0.0;
+    const double give_up = room.seconds() + 5.0;
+    while (room.received() < expected && room.seconds() < give_up) {
+      const double t0 = thread_cpu_seconds();
+      relay.server.service(room.seconds(), 0);
+      busy += thread_cpu_seconds() - t0;
+      room.poll_members();
+    }
+    state.SetIterationTime(busy);
+    relay_seconds += busy;
+  }
+  const auto out = static_cast<double>(relay.server.stats().forwards_out - out_before);
+  const auto in = static_cast<double>(relay.server.stats().forwards_in - in_before);
+  state.counters["forwards_out_per_s"] = out / std::max(relay_seconds, 1e-9);
+  state.counters["datagrams_per_s"] = (in + out) / std::max(relay_seconds, 1e-9);
+  state.counters["us_per_forward_in"] = 1e6 * relay_seconds / std::max(in, 1.0);
+  // Rooms of eight at 30 Hz: each member's tracking in, and out to seven others.
+  state.counters["rooms_of_8_at_30Hz"] =
+      (in + out) / std::max(relay_seconds, 1e-9) / (30.0 * 8.0 * (1.0 + 7.0));
+}
+BENCHMARK(BM_RelayForward)->Arg(2)->Arg(4)->Arg(8)->ArgNames({"people"})->UseManualTime();
+
+// One 100-byte tracking packet from one site to another on 127.0.0.1, until the receiver has
+// it: directly (via_relay:0, one ENet link, as a direct session's tracking goes) or through a
+// relay in the same process (via_relay:1: forward, fan-out, forwarded). Wall-clock time; the
+// difference is what the relay adds on loopback.
+void BM_RelayLatency(benchmark::State& state) {
+  const bool via_relay = state.range(0) != 0;
+  const std::vector<std::uint8_t> payload(100, 0x5A);
+  const auto start = std::chrono::steady_clock::now();
+  if (via_relay) {
+    BenchRelay relay;
+    BenchRoom room(relay, 2);
+    if (!room.ready()) {
+      state.SkipWithError("the room did not fill over loopback");
+      return;
+    }
+    for (auto _ : state) {
+      const std::uint64_t before = room.members[1].received;
+      room.clients[0]->send(kAllMembers, Channel::kTracking, payload);
+      while (room.members[1].received == before && seconds_since(start) < 60.0) {
+        relay.server.service(room.seconds(), 0);
+        room.clients[1]->poll(room.seconds(), room.members[1]);
+      }
+      room.clients[0]->poll(room.seconds(), room.members[0]);  // acknowledgements, keepalives
+    }
+    return;
+  }
+  auto receiver = EnetLink::host("127.0.0.1", 0);
+  auto sender = EnetLink::join("127.0.0.1", receiver->port());
+  const PeerId to = sender->connect();
+  bool up_sender = false, up_receiver = false;
+  while ((!up_sender || !up_receiver) && seconds_since(start) < 10.0) {
+    const bool s = sender->next_event(1).kind == LinkEvent::Kind::kConnected;
+    const bool r = receiver->next_event(1).kind == LinkEvent::Kind::kConnected;
+    up_sender = up_sender || s;
+    up_receiver = up_receiver || r;
+  }
+  if (!up_sender || !up_receiver) {
+    state.SkipWithError("could not connect over loopback");
+    return;
+  }
+  const auto bytes = std::as_bytes(std::span(payload));
+  for (auto _ : state) {
+    sender->send(to, Channel::kTracking, bytes);
+    while (receiver->next_event(0).kind != LinkEvent::Kind::kReceived &&
+           seconds_since(start) < 60.0) {
+    }
+    sender->next_event(0);  // acknowledgements
+  }
+}
+BENCHMARK(BM_RelayLatency)->Arg(0)->Arg(1)->ArgNames({"via_relay"})->UseRealTime();
 
 }  // namespace
