@@ -1,11 +1,80 @@
 #include "site/remote_people.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "core/error.h"
 
 namespace deixis::site {
+
+namespace {
+
+constexpr float kDegPerRad = 57.2957795f;
+
+float angle_deg(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * kDegPerRad;
+}
+
+// Where target `id` is in this room: an object, the other person, a person of the room; null
+// when this room has no copy of it.
+const Vec3* position_here(TargetId id, const LocalTargets& room) {
+  if (id == kPartnerTarget) {
+    return &room.partner_head;
+  }
+  if (is_person_target(id)) {
+    const PersonTarget* person = room.find_person(target_person(id));
+    return person != nullptr ? &person->head : nullptr;
+  }
+  const TargetObject* object = room.map != nullptr ? room.map->find(id) : nullptr;
+  return object != nullptr ? &object->position : nullptr;
+}
+
+// A remote person's gaze, hold by hold: while their own gaze is on their head target in their
+// room (within kSettledDeg), the eyes have settled there; the avatar's error at the last such
+// frame of a hold (once settled for kSettledFrames) is the hold's sample, into storage reserved
+// at meet().
+struct GazeWatch {
+  static constexpr float kSettledDeg = 4.0f;
+  static constexpr std::uint32_t kSettledFrames = 15;  // 0.5 s at 30 Hz
+  TargetId target = kNoTarget;
+  std::uint32_t settled = 0;
+  double error_deg = 0.0;
+  std::vector<GazeSample> samples;
+  std::uint64_t dropped = 0;
+
+  void observe(const presence::RemoteAvatar& avatar, const TrackingFrame& frame,
+               const LocalTargets& room) {
+    const Vec3* at = position_here(frame.head_target, room);
+    if (at == nullptr || frame.head_target != target) {
+      end_hold();
+    }
+    if (at == nullptr) {
+      return;
+    }
+    target = frame.head_target;
+    if (angle_deg(frame.gaze, frame.head_target_position - frame.T_world_head.translation) >
+        kSettledDeg) {
+      return;  // looking elsewhere, or on the way
+    }
+    ++settled;
+    const EndEffectorPoses& pose = avatar.frame().deictic;
+    error_deg = static_cast<double>(angle_deg(pose.gaze, *at - pose.T_world_head.translation));
+  }
+  void end_hold() {
+    if (settled >= kSettledFrames) {
+      if (samples.size() < samples.capacity()) {
+        samples.push_back({target, error_deg});
+      } else {
+        ++dropped;
+      }
+    }
+    target = kNoTarget;
+    settled = 0;
+  }
+};
+
+}  // namespace
 
 struct RemotePeople::Slot {
   Pose T_world_origin;  // the spot's avatar root O
@@ -15,6 +84,7 @@ struct RemotePeople::Slot {
   std::optional<presence::RemoteAvatar> avatar;
   std::optional<presence::PoseCopy> copy;         // the copy-paste baseline, when measuring
   std::optional<eval::DeicticObserver> observer;  // when measuring
+  GazeWatch gaze;                                 // when measuring
 };
 
 RemotePeople::RemotePeople(const SiteConfig& site, const std::array<MoeNetworks, 2>& networks,
@@ -76,6 +146,8 @@ const presence::RemoteAvatar& RemotePeople::meet(PersonId id, const net::Hello& 
   if (options_.completions > 0) {
     slot->copy.emplace(person, slot->T_world_origin, solver_.rig.height);
     slot->observer.emplace(options_.completions);
+    slot->gaze = GazeWatch{};
+    slot->gaze.samples.reserve(options_.completions);
   }
   ++record_of(hello.site).stays;
   return *slot->avatar;
@@ -130,6 +202,11 @@ void RemotePeople::fold_into_record(Slot& slot) {
                          slot.observer->samples().end());
     r.completions_dropped += slot.observer->dropped();
     slot.observer.emplace(options_.completions);
+    slot.gaze.end_hold();
+    r.gazes.insert(r.gazes.end(), slot.gaze.samples.begin(), slot.gaze.samples.end());
+    r.completions_dropped += slot.gaze.dropped;
+    slot.gaze.samples.clear();
+    slot.gaze.dropped = 0;
   }
 }
 
@@ -160,6 +237,7 @@ bool RemotePeople::play(const PersonFrame& f, const LocalTargets& room, double t
                                   slot->T_world_origin};
     slot->observer->observe(*f.frame, f.sequence, time, chain, *slot->copy, *room.map,
                             f.remote_map);
+    slot->gaze.observe(avatar, *f.frame, room);
   }
   return true;
 }
@@ -181,6 +259,7 @@ void RemotePeople::set_live(PersonId id, bool live) {
 void RemotePeople::interrupt(PersonId id) {
   if (Slot* slot = find(id); slot != nullptr && slot->observer) {
     slot->observer->interrupt();
+    slot->gaze.end_hold();
   }
 }
 
@@ -197,6 +276,7 @@ void RemotePeople::finish() {
   for (const auto& slot : slots_) {
     if (slot->taken && slot->observer) {
       slot->observer->interrupt();
+      slot->gaze.end_hold();
     }
   }
 }
@@ -245,6 +325,8 @@ std::vector<PersonRecord> RemotePeople::records() const {
       r->completions.insert(r->completions.end(), slot->observer->samples().begin(),
                             slot->observer->samples().end());
       r->completions_dropped += slot->observer->dropped();
+      r->gazes.insert(r->gazes.end(), slot->gaze.samples.begin(), slot->gaze.samples.end());
+      r->completions_dropped += slot->gaze.dropped;
     }
   }
   return out;

@@ -132,6 +132,27 @@ json completions_json(const std::vector<eval::DeicticSample>& samples) {
 
 // One remote site's person: counters and the mean pointing errors of their avatar at the
 // completion states observed (null when none was).
+// The mean gaze error over the holds, over those on people (person targets), as JSON numbers
+// (null for none) and the holds themselves.
+json gazes_json(const std::vector<GazeSample>& gazes, json& entry) {
+  double all = 0.0, at_people = 0.0;
+  std::size_t people = 0;
+  json list = json::array();
+  for (const GazeSample& g : gazes) {
+    all += g.error_deg;
+    if (is_person_target(g.target)) {
+      at_people += g.error_deg;
+      ++people;
+    }
+    list.push_back({{"target", g.target}, {"error_deg", number(g.error_deg)}});
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  entry["gaze_count"] = gazes.size();
+  entry["gaze_deg"] = number(gazes.empty() ? nan : all / static_cast<double>(gazes.size()));
+  entry["gaze_at_people_deg"] = number(people == 0 ? nan : at_people / static_cast<double>(people));
+  return list;
+}
+
 json people_json(const std::vector<PersonRecord>& people) {
   json out = json::array();
   for (const PersonRecord& p : people) {
@@ -150,6 +171,7 @@ json people_json(const std::vector<PersonRecord>& people) {
                    {"touching_count", t.count},
                    {"touch_cm", number(t.avatar_cm)},
                    {"completions_dropped", p.completions_dropped}});
+    out.back()["gazes"] = gazes_json(p.gazes, out.back());
   }
   return out;
 }

@@ -20,6 +20,14 @@ namespace deixis::site {
 // What a site reports about one remote site's person over a run (session.json `people`):
 // counters summed over their stays (a person who leaves and comes back, with a fresh id, is the
 // same site) and the completion states observed of them (eval/deictic_observer.h).
+// Where a remote person's avatar looked when the person's eyes had settled on a target (the last
+// frame of a hold, site/remote_people.cpp): the angle between the avatar's gaze and the ray from
+// its head to this room's copy of the target (an object, the other person, a person of the room).
+struct GazeSample {
+  TargetId target = kNoTarget;
+  double error_deg = 0.0;
+};
+
 struct PersonRecord {
   std::string site;
   std::uint64_t frames_played = 0;
@@ -28,6 +36,7 @@ struct PersonRecord {
   std::uint64_t stays = 0;  // how many times they arrived
   std::vector<eval::DeicticSample> completions;
   std::uint64_t completions_dropped = 0;
+  std::vector<GazeSample> gazes;
 };
 
 struct SiteRecord {

@@ -182,9 +182,9 @@ class PeopleAsTargets : public ::testing::Test {
 
   // Plays every frame of B and C in room A; `at(i, people)` after each tick.
   template <typename At>
-  void run(const At& at) {
+  std::vector<PersonRecord> run(const At& at, const RemotePeopleOptions& options = {}) {
     const SiteConfig a = site_config("a.json");
-    RemotePeople people(a, shared().networks, shared().solver);
+    RemotePeople people(a, shared().networks, shared().solver, options);
     people.meet(2, hello("B", b_->body()));
     people.meet(3, hello("C", c_->body()));
     const Vec3 own_head(0.0f, 1.62f, 0.0f);
@@ -197,6 +197,8 @@ class PeopleAsTargets : public ::testing::Test {
       people.end_tick();
       at(i, people, own_head);
     }
+    people.finish();
+    return people.records();
   }
 
   static Performer* b_;
@@ -243,6 +245,27 @@ TEST_F(PeopleAsTargets, BLookingAtAsUserTurnsBsAvatarToAsUsersHead) {
   std::printf("B looks at A's user: avatar gaze %.1f° off their head\n", static_cast<double>(gaze));
   EXPECT_GE(gaze, 0.0f);
   EXPECT_LT(gaze, 8.0f);
+}
+
+TEST_F(PeopleAsTargets, GazesHeldOnPeopleAreRecordedForSessionJson) {
+  const std::vector<PersonRecord> records =
+      run([](std::size_t, const RemotePeople&, const Vec3&) {}, RemotePeopleOptions{64});
+  ASSERT_EQ(records.size(), 2u);
+  EXPECT_EQ(records[0].site, "B");
+  EXPECT_EQ(records[0].frames_played, b_->frames());
+  EXPECT_EQ(records[0].visible_ticks, b_->frames());
+  double at_a = -1.0, at_c = -1.0;
+  for (const GazeSample& g : records[0].gazes) {
+    at_a = g.target == person_target(1) ? g.error_deg : at_a;
+    at_c = g.target == person_target(3) ? g.error_deg : at_c;
+  }
+  std::printf("B's held gazes in room A: at A's user %.1f°, at C's avatar %.1f°\n", at_a, at_c);
+  EXPECT_GE(at_a, 0.0);
+  EXPECT_LT(at_a, 8.0);
+  EXPECT_GE(at_c, 0.0);
+  EXPECT_LT(at_c, 8.0);
+  // C rested: their gaze on B's avatar (target 0 of C's room: "the other person", here A's user).
+  EXPECT_EQ(records[1].site, "C");
 }
 
 TEST(RemotePeople, APersonTargetNobodyHereIsIsCountedAndCopied) {
@@ -384,6 +407,7 @@ TEST(SessionReport, PeopleHaveOneEntryEachWithNullErrorsWhenNoneWasObserved) {
   s.avatar.vertical_deg = 1.0;
   b.completions = {s, s};
   b.completions[1].avatar.horizontal_deg = 4.0;
+  b.gazes = {GazeSample{person_target(3), 2.0}, GazeSample{4, 4.0}};
   PersonRecord c;
   c.site = "C";
   c.frames_played = 7;
@@ -400,6 +424,11 @@ TEST(SessionReport, PeopleHaveOneEntryEachWithNullErrorsWhenNoneWasObserved) {
   EXPECT_EQ(j["people"][1]["site"], "C");
   EXPECT_TRUE(j["people"][1]["he_deg"].is_null());
   EXPECT_TRUE(j["people"][1]["ve_deg"].is_null());
+  EXPECT_DOUBLE_EQ(j["people"][0]["gaze_deg"].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(j["people"][0]["gaze_at_people_deg"].get<double>(), 2.0);
+  EXPECT_EQ(j["people"][0]["gazes"].size(), 2u);
+  EXPECT_EQ(j["people"][0]["gazes"][0]["target"], person_target(3));
+  EXPECT_TRUE(j["people"][1]["gaze_deg"].is_null());
   EXPECT_TRUE(j.contains("avatar_visible_ticks"));  // the existing fields stay
   EXPECT_TRUE(j.contains("pointing"));
 }
