@@ -13,6 +13,7 @@
 #include <memory>
 #include <random>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -158,7 +159,10 @@ class FakeRelay {
 
   Item& queue(Kind kind, Endpoint& to, MemberId from, Channel channel,
               std::span<const std::uint8_t> bytes, double delay) {
-    while (items_[cursor_].used) {
+    for (std::size_t tries = 0; items_[cursor_].used; ++tries) {
+      if (tries == items_.size()) {
+        throw std::runtime_error("FakeRelay: every slot is in flight (is the clock moving?)");
+      }
       cursor_ = (cursor_ + 1) % items_.size();
     }
     Item& it = items_[cursor_];
