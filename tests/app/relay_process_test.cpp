@@ -1,11 +1,14 @@
 // `deixis relay` as a real process (docs/relay.md): it prints "port N" for --port 0, lets a room
-// member in, exits 0 on SIGTERM (its member notices the relay gone), and refuses bad flags with
+// member in, exits 0 on SIGTERM (its member notices the relay gone), is found again by its member
+// within 5 s when killed and started again on the same port, and refuses bad flags with
 // exit 2. Every wait is bounded.
 
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <thread>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "app/deixis_child.h"
 #include "net/relay_client.h"
@@ -60,6 +63,42 @@ TEST(RelayCommand, ServesAMemberAndExitsZeroOnSigterm) {
   const std::string log = relay.out() + relay.err();  // spdlog writes to standard output
   EXPECT_NE(log.find("entered"), std::string::npos) << "joins are logged: " << log;
   EXPECT_NE(log.find("SIGTERM"), std::string::npos) << log;
+}
+
+TEST(RelayCommand, AMemberIsBackWithin5sOfAKilledRelayStartedAgain) {
+  auto relay = std::make_unique<Deixis>(std::vector<std::string>{"relay", "--port", "0"});
+  const int port = relay->port();
+  ASSERT_GT(port, 0) << relay->err();
+  net::RelayClientOptions o;
+  o.port = static_cast<std::uint16_t>(port);
+  o.room = net::room_token("restart");
+  const auto start = Clock::now();
+  net::RelayClient client(o, 0.0);
+  Entering member;
+  member.client = &client;
+  while (!client.in_room() && seconds_since(start) < 5.0) {
+    client.poll(seconds_since(start), member, 5);
+  }
+  ASSERT_TRUE(client.in_room());
+  relay->send_signal(SIGKILL);  // no goodbye: the member has only the silence to go by
+  relay->wait();
+  const double killed = seconds_since(start);
+  while (member.lost == 0 && seconds_since(start) < killed + 5.0) {
+    client.poll(seconds_since(start), member, 5);
+  }
+  ASSERT_EQ(member.lost, 1);
+  EXPECT_LT(seconds_since(start) - killed, 2.0) << "a dead relay is noticed within 2 s";
+  relay =
+      std::make_unique<Deixis>(std::vector<std::string>{"relay", "--port", std::to_string(port)});
+  ASSERT_EQ(relay->port(), port) << relay->err();
+  const double listening = seconds_since(start);
+  while (!client.in_room() && seconds_since(start) < listening + 10.0) {
+    client.poll(seconds_since(start), member, 5);
+  }
+  ASSERT_TRUE(client.in_room());
+  EXPECT_LT(seconds_since(start) - listening, 5.0) << "back in the room within 5 s";
+  relay->send_signal(SIGTERM);
+  EXPECT_EQ(relay->wait(), 0);
 }
 
 TEST(RelayCommand, HelpSaysOpenRoomsAreReadableByTheOperator) {
