@@ -99,21 +99,25 @@ TranslationStep TranslationLoop::begin_step(const TranslationInput& frame,
 
 TranslationStep TranslationLoop::begin_step_with(const TranslationInput& frame,
                                                  const nn::Progression* known) {
+  TranslationStep out = open_step(frame);
+  take_mpnet(known != nullptr ? *known : mpnet_.run(mpnet_window_).progression, out);
+  return out;
+}
+
+TranslationStep TranslationLoop::open_step(const TranslationInput& frame) {
   TranslationStep out;
   out.head_weight = counters_.head_weight();
   out.hand_weight = counters_.hand_weight();
   out.avatar_x =
       blend_end_effectors(prediction_, frame.user_x, out.head_weight, out.hand_weight, scale_);
-
   push_user_row(frame);
   push_avatar_row(out.avatar_x, frame.avatar_target);
-  if (known != nullptr) {
-    take_progression(*known);
-  } else {
-    run_mpnet();
-  }
-  out.progression = progression_;
   return out;
+}
+
+void TranslationLoop::take_mpnet(const nn::Progression& progression, TranslationStep& step) {
+  take_progression(progression);
+  step.progression = progression_;
 }
 
 void TranslationLoop::end_step(const nn::PoseVector& prediction, TranslationStep& step) {

@@ -88,6 +88,14 @@ class TranslationLoop {
   // reads only the user's rows, so deixis eval, which chains one user's rows against many
   // avatars, computes them once per user. `known` must be what MPNet gives on that window.
   TranslationStep begin_step(const TranslationInput& frame, const nn::Progression& known);
+  // begin_step() in two halves, so that MPNet too runs for many loops as one batch
+  // (gesture/translator_batch.h): open_step() blends and shifts the windows; the caller runs MPNet
+  // on mpnet_window() and hands its progression to take_mpnet(). begin_step() is exactly that.
+  TranslationStep open_step(const TranslationInput& frame);
+  void take_mpnet(const nn::Progression& progression, TranslationStep& step);
+
+  const nn::Mpnet& mpnet() const { return mpnet_; }
+  const nn::Ugnet& ugnet() const { return ugnet_; }
 
   // The windows as the networks last read them (oldest row first), for tests and tools.
   std::span<const float, nn::kMpnetWindowSize> mpnet_window() const { return mpnet_window_; }

@@ -93,9 +93,26 @@ std::span<const float> Translator::draw_noise() {
 }
 
 AvatarFrame Translator::tick(const TrackingFrame* frame, const LocalTargets& room) {
+  if (begin_tick(frame, room)) {
+    run_networks();
+  }
+  return result_;
+}
+
+void Translator::run_networks() {
+  take_progression(mpnet().run(mpnet_window()).progression);
+  end_tick(ugnet().run(ugnet_window(), ugnet_noise()));
+}
+
+bool Translator::begin_tick(const TrackingFrame* frame, const LocalTargets& room) {
   ++stats_.ticks;
-  AvatarFrame out;
-  out.deictic_hand = config_.user.deictic_hand;
+  // A fresh result (its poses keep last tick's values until finish_tick() writes them).
+  result_.ready = false;
+  result_.held = false;
+  result_.deictic_hand = config_.user.deictic_hand;
+  result_.hand_target = kNoTarget;
+  result_.progression = {};
+  result_.head_weight = result_.hand_weight = 0.0f;
   if (frame != nullptr && usable(*frame)) {
     last_valid_ = *frame;
     const Hand other_hand = other(config_.user.deictic_hand);
@@ -111,40 +128,58 @@ AvatarFrame Translator::tick(const TrackingFrame* frame, const LocalTargets& roo
       ++stats_.rejected_frames;
     }
     if (!started_) {
-      return out;  // nothing valid yet: the avatar stays hidden
+      return false;  // nothing valid yet: the avatar stays hidden
     }
     ++stats_.held;
-    out.held = true;
+    result_.held = true;
   }
 
-  const TranslationInput input = input_for(last_valid_, room);
+  input_ = input_for(last_valid_, room);
   if (!started_) {
-    loop_.reset(input, initial_avatar(input.user_x, loop_.scale()), draw_noise());
+    loop_.reset(input_, initial_avatar(input_.user_x, loop_.scale()), draw_noise());
     started_ = true;
   }
-  TranslationStep step = loop_.step(input, draw_noise());
-  if (!std::all_of(step.avatar_x.begin(), step.avatar_x.end(),
-                   [](float v) { return std::isfinite(v); })) {
-    // Finite inputs never produced this in any test, but a pose must never carry NaN: start over
-    // from the user's current pose.
-    ++stats_.restarts;
-    loop_.reset(input, initial_avatar(input.user_x, loop_.scale()), draw_noise());
-    step = loop_.step(input, draw_noise());
-    if (!std::all_of(step.avatar_x.begin(), step.avatar_x.end(),
-                     [](float v) { return std::isfinite(v); })) {
-      step.avatar_x = initial_avatar(input.user_x, loop_.scale());
-    }
+  draw_noise();  // this step's draws (ugnet_noise())
+  step_ = loop_.open_step(input_);
+  if (std::all_of(step_.avatar_x.begin(), step_.avatar_x.end(),
+                  [](float v) { return std::isfinite(v); })) {
+    return true;
   }
+  // Finite inputs never produced this in any test, but a pose must never carry NaN: start over
+  // from the user's current pose (one by one: this tick leaves the batch).
+  ++stats_.restarts;
+  loop_.reset(input_, initial_avatar(input_.user_x, loop_.scale()), draw_noise());
+  step_ = loop_.step(input_, draw_noise());
+  if (!std::all_of(step_.avatar_x.begin(), step_.avatar_x.end(),
+                   [](float v) { return std::isfinite(v); })) {
+    step_.avatar_x = initial_avatar(input_.user_x, loop_.scale());
+  }
+  finish_tick();
+  return false;
+}
 
-  out.ready = true;
-  out.deictic = decode_end_effectors(step.avatar_x, config_.T_world_avatar_root);
-  out.other_wrist_from_head = last_other_wrist_from_head_;
-  out.other_wrist_from_head.translation /= loop_.scale();
-  out.hand_target = last_valid_.hand_target;
-  out.progression = step.progression;
-  out.head_weight = step.head_weight;
-  out.hand_weight = step.hand_weight;
-  return out;
+void Translator::take_progression(const nn::Progression& progression) {
+  loop_.take_mpnet(progression, step_);
+}
+
+std::span<const float> Translator::ugnet_noise() const {
+  return needs_noise_ ? std::span<const float>(noise_) : std::span<const float>{};
+}
+
+void Translator::end_tick(const nn::PoseVector& prediction) {
+  loop_.end_step(prediction, step_);
+  finish_tick();
+}
+
+void Translator::finish_tick() {
+  result_.ready = true;
+  result_.deictic = decode_end_effectors(step_.avatar_x, config_.T_world_avatar_root);
+  result_.other_wrist_from_head = last_other_wrist_from_head_;
+  result_.other_wrist_from_head.translation /= loop_.scale();
+  result_.hand_target = last_valid_.hand_target;
+  result_.progression = step_.progression;
+  result_.head_weight = step_.head_weight;
+  result_.hand_weight = step_.hand_weight;
 }
 
 }  // namespace deixis

@@ -70,6 +70,23 @@ class Translator {
   // One tick. `frame` is null when no frame arrived in time (a gap in the stream).
   AvatarFrame tick(const TrackingFrame* frame, const LocalTargets& room);
 
+  // tick() in halves, so that many translators' networks run as one batch
+  // (gesture/translator_batch.h): begin_tick() does everything before the networks and says
+  // whether they must run; if so, the caller runs MPNet on mpnet_window() and hands its
+  // progression to take_progression(), then UGNet on ugnet_window() with ugnet_noise() and hands
+  // its prediction to end_tick(). tick_result() is then what tick() returns; tick() is exactly
+  // this with the networks run one by one (run_networks()).
+  bool begin_tick(const TrackingFrame* frame, const LocalTargets& room);
+  nn::MpnetWindow mpnet_window() const { return loop_.mpnet_window(); }
+  void take_progression(const nn::Progression& progression);
+  nn::UgnetWindow ugnet_window() const { return loop_.ugnet_window(); }
+  std::span<const float> ugnet_noise() const;
+  void end_tick(const nn::PoseVector& prediction);
+  void run_networks();
+  const AvatarFrame& tick_result() const { return result_; }
+  const nn::Mpnet& mpnet() const { return loop_.mpnet(); }
+  const nn::Ugnet& ugnet() const { return loop_.ugnet(); }
+
   const TranslatorStats& stats() const { return stats_; }
   float scale() const { return loop_.scale(); }
   const TranslatorConfig& config() const { return config_; }
@@ -79,6 +96,7 @@ class Translator {
   Vec3 avatar_target_position(TargetId id, const Vec3& user_position, const LocalTargets& room);
   TranslationInput input_for(const TrackingFrame& frame, const LocalTargets& room);
   std::span<const float> draw_noise();
+  void finish_tick();  // the tick's result from the loop's step
 
   TranslatorConfig config_;
   TranslationLoop loop_;
@@ -89,6 +107,10 @@ class Translator {
   std::mt19937 rng_;
   std::array<float, nn::kDiffusionNoiseSize> noise_{};
   bool needs_noise_ = false;
+  // The tick under way (begin_tick() … end_tick()) and its result.
+  TranslationInput input_;
+  TranslationStep step_;
+  AvatarFrame result_;
 };
 
 }  // namespace deixis

@@ -38,7 +38,18 @@ RemoteAvatar::RemoteAvatar(nn::Mpnet mpnet, nn::Ugnet ugnet, const ik::AvatarSol
       model_(solver.rest_model) {}
 
 bool RemoteAvatar::tick(const TrackingFrame* frame, const LocalTargets& room) {
-  frame_ = translator_.tick(frame, room);
+  if (begin_tick(frame, room)) {
+    translator_.run_networks();
+  }
+  return finish_tick(room);
+}
+
+bool RemoteAvatar::begin_tick(const TrackingFrame* frame, const LocalTargets& room) {
+  return translator_.begin_tick(frame, room);
+}
+
+bool RemoteAvatar::finish_tick(const LocalTargets& room) {
+  frame_ = translator_.tick_result();
   if (!frame_.ready) {
     return false;
   }

@@ -43,6 +43,15 @@ class RemoteAvatar {
   // is hidden (no valid frame yet); the poses then keep the rest pose.
   bool tick(const TrackingFrame* frame, const LocalTargets& room);
 
+  // tick() in halves for presence::tick_people, which batches many avatars' networks:
+  // begin_tick() ticks the translator up to its networks and says whether they must run (then
+  // the caller completes translator()'s tick, e.g. in a TranslatorBatch); finish_tick() does the
+  // rest (touch contact and IK) and returns what tick() returns. tick() is exactly these with the
+  // networks run alone.
+  bool begin_tick(const TrackingFrame* frame, const LocalTargets& room);
+  bool finish_tick(const LocalTargets& room);
+  Translator& translator() { return translator_; }
+
   bool visible() const { return frame_.ready; }
   const AvatarFrame& frame() const { return frame_; }  // the translator's output this tick
   const ik::AvatarSolveReport& report() const { return report_; }

@@ -40,8 +40,9 @@ class BatchBuffers {
 // c = a·w for `rows` rows: a is rows × depth (row r at a + r·lda), w is depth × cols (row i at
 // w + i·ldw), c is rows × cols (row r at c + r·ldc). Each weight row is read once per block of
 // rows, not once per row: this is the whole point of batching. With AVX2 + FMA the block is six
-// rows by sixteen columns in registers; every result is a plain sum over i in order, so it
-// matches a matrix–vector product to float rounding.
+// rows by sixteen columns in registers. Every result is the same chain of multiply-adds over i
+// in order, whatever the number of rows and wherever the row sits in the batch, so a person's
+// results are bit for bit the same alone (rows = 1, the networks' run()) as in any batch.
 void multiply_rows(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
                    std::size_t ldc, int rows, int depth, int cols) noexcept;
 

@@ -6,7 +6,8 @@
 // We blend the experts' *outputs* instead of their weights: Σ_e ω_e (x·W_e + b_e) is the same
 // value (both are linear in ω), costs one pass over the weights instead of two, and needs no
 // per-call weight buffer. load() re-lays the weights out so that all experts' outputs are one
-// long matrix-vector product, stored as contiguous panels of outputs (panel_order.h).
+// long product, stored as contiguous panels of outputs (panel_order.h): a matrix–vector product
+// for one person, a matrix product for a batch of people (batch.h), with the same bits per person.
 
 #include <string>
 
@@ -22,7 +23,6 @@ struct ExpertLayer {
   static constexpr int kAll = Experts * Out;  // outputs of all experts, expert-major
   static constexpr int kPanel = panel_width(kAll);
   static constexpr int kPanels = kAll / kPanel;
-  using Panel = Eigen::Matrix<float, In, kPanel, Eigen::RowMajor>;
 
   // Panel p is an In × kPanel row-major block: the weights of outputs [p·kPanel, (p+1)·kPanel).
   AlignedFloats panels = AlignedFloats(static_cast<std::size_t>(In) * kAll);
@@ -55,11 +55,12 @@ struct ExpertLayer {
     }
   }
 
-  // y = Σ_e ω_e (x·W_e + b_e). `reverse` visits the panels last to first (same result;
-  // panel_order.h).
+  // y = Σ_e ω_e (x·W_e + b_e) for one input (AMNet's per-row experts). `reverse` visits the panels
+  // last to first (same result; panel_order.h).
   template <typename InputVector, typename OmegaVector>
   Eigen::Matrix<float, Out, 1> run(const InputVector& x, const OmegaVector& omega,
                                    bool reverse = false) const {
+    using Panel = Eigen::Matrix<float, In, kPanel, Eigen::RowMajor>;
     Eigen::Matrix<float, kAll, 1> all;  // x·W_e for every expert, expert-major
     for (int k = 0; k < kPanels; ++k) {
       const int p = reverse ? kPanels - 1 - k : k;
@@ -74,14 +75,15 @@ struct ExpertLayer {
     return y;
   }
 
-  // run() for `count` people (batch.h): row r of y (count × Out, rows contiguous) =
-  // Σ_e ω_r,e (x_r·W_e + b_e), with x_r at x + r·ldx and ω_r at omega + r·Experts. All experts'
-  // products for the whole batch are one matrix product per panel, each panel read once for
-  // everyone; then each person's experts are blended with their own ω. `all` is working memory of
-  // count × kAll floats.
+  // y = Σ_e ω_e (x·W_e + b_e) for `count` people (batch.h): row r of y (count × Out, rows
+  // contiguous) = Σ_e ω_r,e (x_r·W_e + b_e), with x_r at x + r·ldx and ω_r at omega + r·Experts.
+  // All experts' products for the whole batch are one matrix product per panel, each panel read
+  // once for everyone; then each person's experts are blended with their own ω. `all` is working
+  // memory of count × kAll floats.
   void run_batch(const float* x, std::size_t ldx, const float* omega, int count, float* all,
-                 float* y) const noexcept {
-    for (int p = 0; p < kPanels; ++p) {
+                 float* y, bool reverse = false) const noexcept {
+    for (int k = 0; k < kPanels; ++k) {
+      const int p = reverse ? kPanels - 1 - k : k;
       multiply_rows(x, ldx, panels.data() + static_cast<std::size_t>(p) * In * kPanel, kPanel,
                     all + p * kPanel, kAll, count, In, kPanel);
     }
@@ -105,16 +107,16 @@ template <int Experts, int In, int Hidden, int Out>
 void run_experts_batch(const ExpertLayer<Experts, In, Hidden>& l1,
                        const ExpertLayer<Experts, Hidden, Hidden>& l2,
                        const ExpertLayer<Experts, Hidden, Out>& l3, const float* x, std::size_t ldx,
-                       const float* omega, int count, float* all, float* h1, float* h2,
-                       float* y) noexcept {
+                       const float* omega, int count, float* all, float* h1, float* h2, float* y,
+                       bool reverse = false) noexcept {
   using Rows = Eigen::Matrix<float, Eigen::Dynamic, Hidden, Eigen::RowMajor>;
-  l1.run_batch(x, ldx, omega, count, all, h1);
+  l1.run_batch(x, ldx, omega, count, all, h1, reverse);
   Eigen::Map<Rows> a1(h1, count, Hidden);
   elu_inplace(a1);
-  l2.run_batch(h1, Hidden, omega, count, all, h2);
+  l2.run_batch(h1, Hidden, omega, count, all, h2, reverse);
   Eigen::Map<Rows> a2(h2, count, Hidden);
   elu_inplace(a2);
-  l3.run_batch(h2, Hidden, omega, count, all, y);
+  l3.run_batch(h2, Hidden, omega, count, all, y, reverse);
 }
 
 }  // namespace deixis::nn

@@ -54,14 +54,6 @@ struct GruLayer {
     return gi;
   }
 
-  // W_ih·x + b_ih for one input vector.
-  template <typename InputVector>
-  Eigen::Matrix<float, kGates, 1> project_input(const InputVector& x) const {
-    Eigen::Matrix<float, kGates, 1> gi = bias_ih.view();
-    gi.noalias() += weight_ih_by_column.view().transpose().lazyProduct(x);
-    return gi;
-  }
-
   // One recurrence step: h ← GRU(h, x) given x's input projection `gi` (3·Hidden).
   template <typename ProjectionRow>
   void step(const ProjectionRow& gi, State& h) const {

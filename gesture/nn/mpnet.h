@@ -44,7 +44,7 @@ class Mpnet {
 
   // run() on `out.size()` windows at once, e.g. one per remote person of a site
   // (presence::tick_people): window i is windows[i·kMpnetWindowSize …]. The GRU-MoE runs them as
-  // one batch (batch.h; its results equal run()'s to float rounding, within 1e-5); the MLP and
+  // one batch (batch.h; a window's result is run()'s, bit for bit); the MLP and
   // Transformer call run() per window. Allocates nothing once `buffers` has held a batch this
   // large (reserve_batch). Sizes that do not fit together throw std::invalid_argument.
   void run_batch(std::span<const float> windows, std::span<MpnetOutput> out,

@@ -4,8 +4,6 @@
 
 namespace deixis::nn {
 
-using WindowMatrix = Eigen::Matrix<float, kWindowRows, kMpnetFeatures, Eigen::RowMajor>;
-
 bool MpnetGruMoe::recognises(const SafetensorsFile& file) {
   return file.contains("gating_network.gru.weight_ih_l0") && file.contains("gru.weight_ih_l0") &&
          file.contains("moe_network.w_l1");
@@ -18,38 +16,6 @@ void MpnetGruMoe::load(const SafetensorsFile& file) {
   expert_l1.load(file, "moe_network.w_l1", "moe_network.b_l1");
   expert_l2.load(file, "moe_network.w_l2", "moe_network.b_l2");
   expert_l3.load(file, "moe_network.w_l3", "moe_network.b_l3");
-}
-
-MpnetOutput MpnetGruMoe::run(MpnetWindow window, MpnetTrace* trace) const {
-  const Eigen::Map<const WindowMatrix> x(window.data());
-
-  // The gating network (2-layer GRU over the target feature) and the recurrent module (GRU over
-  // all 11 columns) are independent recurrences; stepping them in one loop lets the CPU overlap
-  // their dependency chains. Layer 2 of the gating GRU consumes layer 1's state of the same step.
-  const auto gi_gating = gating_l0.project_inputs<kWindowRows>(x.middleCols<5>(kMpnetTargetColumn));
-  const auto gi_recurrent = recurrent.project_inputs<kWindowRows>(x);
-  Eigen::Matrix<float, kExperts, 1> gating_h0 = Eigen::Matrix<float, kExperts, 1>::Zero();
-  Eigen::Matrix<float, kExperts, 1> gating_h1 = Eigen::Matrix<float, kExperts, 1>::Zero();
-  Eigen::Matrix<float, kRecurrentHidden, 1> z = Eigen::Matrix<float, kRecurrentHidden, 1>::Zero();
-  for (int t = 0; t < kWindowRows; ++t) {
-    gating_l0.step(gi_gating.row(t).transpose(), gating_h0);
-    gating_l1.step(gating_l1.project_input(gating_h0), gating_h1);
-    recurrent.step(gi_recurrent.row(t).transpose(), z);
-  }
-  Eigen::Matrix<float, kExperts, 1> omega = gating_h1;
-  softmax_inplace(omega);
-
-  Eigen::Matrix<float, kExpertHidden, 1> h1 = expert_l1.run(z, omega);
-  elu_inplace(h1);
-  Eigen::Matrix<float, kExpertHidden, 1> h2 = expert_l2.run(h1, omega);
-  elu_inplace(h2);
-  const Eigen::Matrix<float, kProgressionSize, 1> y = expert_l3.run(h2, omega);
-
-  if (trace != nullptr) {
-    Eigen::Map<Eigen::Matrix<float, kExperts, 1>>(trace->omega.data()) = omega;
-    Eigen::Map<Eigen::Matrix<float, kRecurrentHidden, 1>>(trace->z.data()) = z;
-  }
-  return clamp_progression(y);
 }
 
 namespace {
@@ -71,6 +37,32 @@ struct MpnetBatchMemory {
   float* h2;            // count × 12
   float* y;             // count × 3
 
+  // One window's memory, on the stack (run()).
+  struct Lone {
+    std::array<float, kWindowRows * 3 * kExperts> gi_gating;
+    std::array<float, kWindowRows * 3 * kHidden> gi_recurrent;
+    std::array<float, 3 * kExperts> gi_gating_l1;
+    std::array<float, 3 * kHidden> gh;
+    std::array<float, kExperts> gating_h0, omega;
+    std::array<float, kHidden> z;
+    std::array<float, kExperts * MpnetGruMoe::kExpertHidden> all;
+    std::array<float, MpnetGruMoe::kExpertHidden> h1, h2;
+    std::array<float, kProgressionSize> y;
+  };
+
+  explicit MpnetBatchMemory(Lone& lone)
+      : gi_gating(lone.gi_gating.data()),
+        gi_recurrent(lone.gi_recurrent.data()),
+        gi_gating_l1(lone.gi_gating_l1.data()),
+        gh(lone.gh.data()),
+        gating_h0(lone.gating_h0.data()),
+        omega(lone.omega.data()),
+        z(lone.z.data()),
+        all(lone.all.data()),
+        h1(lone.h1.data()),
+        h2(lone.h2.data()),
+        y(lone.y.data()) {}
+
   MpnetBatchMemory(BatchBuffers& buffers, int count) {
     const auto n = static_cast<std::size_t>(count);
     const auto rows = n * kWindowRows;
@@ -88,7 +80,56 @@ struct MpnetBatchMemory {
   }
 };
 
+// The whole network on `count` windows in `m`. The same code runs one window (run()) and a batch
+// (run_batch()), and nn/batch.h's products give a row the same bits in either, so a person's
+// progression does not depend on who else is in the batch.
+void run_moe(const MpnetGruMoe& net, const float* windows, int count, MpnetOutput* out,
+             const MpnetBatchMemory& m) {
+  constexpr int kExperts = MpnetGruMoe::kExperts;
+  constexpr int kHidden = MpnetGruMoe::kRecurrentHidden;
+  const auto n = static_cast<std::size_t>(count);
+  // The gating network (2-layer GRU over the target feature) and the recurrent module (GRU over
+  // all 11 columns) are independent recurrences; stepping them in one loop lets the CPU overlap
+  // their dependency chains. Every row of every window is projected at once: rows of
+  // consecutive windows are consecutive.
+  net.gating_l0.project_inputs_batch(windows + kMpnetTargetColumn, kMpnetFeatures,
+                                     count * kWindowRows, m.gi_gating);
+  net.recurrent.project_inputs_batch(windows, kMpnetFeatures, count * kWindowRows, m.gi_recurrent);
+  std::fill_n(m.gating_h0, n * kExperts, 0.0f);
+  std::fill_n(m.omega, n * kExperts, 0.0f);
+  std::fill_n(m.z, n * kHidden, 0.0f);
+  constexpr std::size_t kGatingStride = kWindowRows * 3 * kExperts;
+  constexpr std::size_t kRecurrentStride = kWindowRows * 3 * kHidden;
+  for (int t = 0; t < kWindowRows; ++t) {
+    step_two_layers_batch(net.gating_l0, net.gating_l1, m.gi_gating + t * 3 * kExperts,
+                          kGatingStride, m.gating_h0, m.omega, m.gi_gating_l1, m.gh, count);
+    net.recurrent.step_batch(m.gi_recurrent + t * 3 * kHidden, kRecurrentStride, m.z, m.gh, count);
+  }
+  for (std::size_t r = 0; r < n; ++r) {
+    Eigen::Map<Eigen::Matrix<float, kExperts, 1>> omega(m.omega + r * kExperts);
+    softmax_inplace(omega);
+  }
+  run_experts_batch(net.expert_l1, net.expert_l2, net.expert_l3, m.z, kHidden, m.omega, count,
+                    m.all, m.h1, m.h2, m.y);
+  for (std::size_t r = 0; r < n; ++r) {
+    out[r] = clamp_progression(
+        Eigen::Map<const Eigen::Matrix<float, kProgressionSize, 1>>(m.y + r * kProgressionSize));
+  }
+}
+
 }  // namespace
+
+MpnetOutput MpnetGruMoe::run(MpnetWindow window, MpnetTrace* trace) const {
+  MpnetBatchMemory::Lone lone;
+  const MpnetBatchMemory m(lone);
+  MpnetOutput out;
+  run_moe(*this, window.data(), 1, &out, m);
+  if (trace != nullptr) {
+    std::copy(lone.omega.begin(), lone.omega.end(), trace->omega.begin());
+    std::copy(lone.z.begin(), lone.z.end(), trace->z.begin());
+  }
+  return out;
+}
 
 void MpnetGruMoe::reserve_batch(int count, BatchBuffers& buffers) {
   const MpnetBatchMemory sized(buffers, count);
@@ -99,34 +140,7 @@ void MpnetGruMoe::run_batch(const float* windows, int count, MpnetOutput* out,
   if (count <= 0) {
     return;
   }
-  const MpnetBatchMemory m(buffers, count);
-  const auto n = static_cast<std::size_t>(count);
-  // Every row of every window projected at once: rows of consecutive windows are consecutive.
-  gating_l0.project_inputs_batch(windows + kMpnetTargetColumn, kMpnetFeatures, count * kWindowRows,
-                                 m.gi_gating);
-  recurrent.project_inputs_batch(windows, kMpnetFeatures, count * kWindowRows, m.gi_recurrent);
-  std::fill_n(m.gating_h0, n * kExperts, 0.0f);
-  std::fill_n(m.omega, n * kExperts, 0.0f);
-  std::fill_n(m.z, n * kRecurrentHidden, 0.0f);
-  constexpr std::size_t kGatingStride = kWindowRows * 3 * kExperts;
-  constexpr std::size_t kRecurrentStride = kWindowRows * 3 * kRecurrentHidden;
-  for (int t = 0; t < kWindowRows; ++t) {
-    step_two_layers_batch(gating_l0, gating_l1, m.gi_gating + t * 3 * kExperts, kGatingStride,
-                          m.gating_h0, m.omega, m.gi_gating_l1, m.gh, count);
-    recurrent.step_batch(m.gi_recurrent + t * 3 * kRecurrentHidden, kRecurrentStride, m.z, m.gh,
-                         count);
-  }
-  for (std::size_t r = 0; r < n; ++r) {
-    Eigen::Map<Eigen::Matrix<float, kExperts, 1>> omega(m.omega + r * kExperts);
-    softmax_inplace(omega);
-  }
-
-  run_experts_batch(expert_l1, expert_l2, expert_l3, m.z, kRecurrentHidden, m.omega, count, m.all,
-                    m.h1, m.h2, m.y);
-  for (std::size_t r = 0; r < n; ++r) {
-    out[r] = clamp_progression(
-        Eigen::Map<const Eigen::Matrix<float, kProgressionSize, 1>>(m.y + r * kProgressionSize));
-  }
+  run_moe(*this, windows, count, out, MpnetBatchMemory(buffers, count));
 }
 
 MpnetOutput clamp_progression(const Eigen::Matrix<float, kProgressionSize, 1>& raw) {

@@ -56,8 +56,8 @@ class Ugnet {
                  std::span<float> out) const;
 
   // The same for the runtime's batches, e.g. one window per remote person of a site
-  // (presence::tick_people): the MoE runs them as one batch (batch.h; its results equal run()'s
-  // to float rounding, within 1e-5), the other architectures call run() per window. Allocates
+  // (presence::tick_people): the MoE runs them as one batch (batch.h; a window's result is
+  // run()'s, bit for bit), the other architectures call run() per window. Allocates
   // nothing once `buffers` has held a batch this large (reserve_batch).
   void run_batch(std::span<const float> windows, std::span<const float> noise, std::span<float> out,
                  BatchBuffers& buffers) const;

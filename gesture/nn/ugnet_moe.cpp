@@ -28,35 +28,6 @@ void UgnetMoe::load(const SafetensorsFile& file) {
   expert_l3.load(file, "moe_network.w_l3", "moe_network.b_l3");
 }
 
-PoseVector UgnetMoe::run(UgnetWindow window, UgnetTrace* trace) const {
-  const Eigen::Map<const UgnetWindowMatrix> x(window.data());
-
-  // Gating network: the 2-layer GRU over the conditioning columns, layer 2 stepped with layer 1.
-  const auto gi_gating = gating_l0.project_inputs<kWindowRows>(x.rightCols<kConditionColumns>());
-  using Gating = Eigen::Matrix<float, kExperts, 1>;
-  Gating gating_h0 = Gating::Zero();
-  Gating omega = Gating::Zero();
-  for (int t = 0; t < kWindowRows; ++t) {
-    gating_l0.step(gi_gating.row(t).transpose(), gating_h0);
-    gating_l1.step(gating_l1.project_input(gating_h0), omega);
-  }
-  softmax_inplace(omega);
-
-  const ConditionVector c = condition_vector(window);
-  const bool reverse = panel_order.next_is_reversed();
-  Eigen::Matrix<float, kHidden, 1> h1 = expert_l1.run(c, omega, reverse);
-  elu_inplace(h1);
-  Eigen::Matrix<float, kHidden, 1> h2 = expert_l2.run(h1, omega, reverse);
-  elu_inplace(h2);
-  PoseVector out;
-  Eigen::Map<Eigen::Matrix<float, kPoseSize, 1>>(out.data()) = expert_l3.run(h2, omega, reverse);
-
-  if (trace != nullptr) {
-    Eigen::Map<Eigen::Matrix<float, kExperts, 1>>(trace->omega.data()) = omega;
-  }
-  return out;
-}
-
 }  // namespace deixis::nn
 
 namespace deixis::nn {
@@ -77,6 +48,27 @@ struct UgnetBatchMemory {
   float* h1;            // count × 144
   float* h2;            // count × 144
 
+  // One window's memory, on the stack (run()).
+  struct Lone {
+    std::array<float, kWindowRows * 3 * kExperts> gi_gating;
+    std::array<float, 3 * kExperts> gi_gating_l1, gh;
+    std::array<float, kExperts> gating_h0, omega;
+    std::array<float, kConditionSize> condition;
+    std::array<float, kExperts * kHidden> all;
+    std::array<float, kHidden> h1, h2;
+  };
+
+  explicit UgnetBatchMemory(Lone& lone)
+      : gi_gating(lone.gi_gating.data()),
+        gi_gating_l1(lone.gi_gating_l1.data()),
+        gh(lone.gh.data()),
+        gating_h0(lone.gating_h0.data()),
+        omega(lone.omega.data()),
+        condition(lone.condition.data()),
+        all(lone.all.data()),
+        h1(lone.h1.data()),
+        h2(lone.h2.data()) {}
+
   UgnetBatchMemory(BatchBuffers& buffers, int count) {
     const auto n = static_cast<std::size_t>(count);
     gi_gating = buffers.get(0, n * kWindowRows * 3 * kExperts).data();
@@ -91,7 +83,47 @@ struct UgnetBatchMemory {
   }
 };
 
+// The whole network on `count` windows in `m`. The same code runs one window (run()) and a batch
+// (run_batch()), and nn/batch.h's products give a row the same bits in either, so a person's
+// prediction does not depend on who else is in the batch. `reverse`: panel_order.h.
+void run_moe(const UgnetMoe& net, const float* windows, int count, float* out,
+             const UgnetBatchMemory& m, bool reverse) {
+  constexpr int kExperts = UgnetMoe::kExperts;
+  const auto n = static_cast<std::size_t>(count);
+  // The gating network over every window's conditioning columns: rows of consecutive windows are
+  // consecutive, so all are projected at once, then everyone's GRUs step together.
+  net.gating_l0.project_inputs_batch(windows + kPoseSize, kUgnetColumns, count * kWindowRows,
+                                     m.gi_gating);
+  std::fill_n(m.gating_h0, n * kExperts, 0.0f);
+  std::fill_n(m.omega, n * kExperts, 0.0f);
+  constexpr std::size_t kGatingStride = kWindowRows * 3 * kExperts;
+  for (int t = 0; t < kWindowRows; ++t) {
+    step_two_layers_batch(net.gating_l0, net.gating_l1, m.gi_gating + t * 3 * kExperts,
+                          kGatingStride, m.gating_h0, m.omega, m.gi_gating_l1, m.gh, count);
+  }
+  for (std::size_t r = 0; r < n; ++r) {
+    Eigen::Map<Eigen::Matrix<float, kExperts, 1>> omega(m.omega + r * kExperts);
+    softmax_inplace(omega);
+    Eigen::Map<ConditionVector>(m.condition + r * kConditionSize) =
+        condition_vector(UgnetWindow(windows + r * kUgnetWindowSize, kUgnetWindowSize));
+  }
+
+  run_experts_batch(net.expert_l1, net.expert_l2, net.expert_l3, m.condition, kConditionSize,
+                    m.omega, count, m.all, m.h1, m.h2, out, reverse);
+}
+
 }  // namespace
+
+PoseVector UgnetMoe::run(UgnetWindow window, UgnetTrace* trace) const {
+  UgnetBatchMemory::Lone lone;
+  PoseVector out;
+  run_moe(*this, window.data(), 1, out.data(), UgnetBatchMemory(lone),
+          panel_order.next_is_reversed());
+  if (trace != nullptr) {
+    std::copy(lone.omega.begin(), lone.omega.end(), trace->omega.begin());
+  }
+  return out;
+}
 
 void UgnetMoe::reserve_batch(int count, BatchBuffers& buffers) {
   const UgnetBatchMemory sized(buffers, count);
@@ -101,28 +133,8 @@ void UgnetMoe::run_batch(const float* windows, int count, float* out, BatchBuffe
   if (count <= 0) {
     return;
   }
-  const UgnetBatchMemory m(buffers, count);
-  const auto n = static_cast<std::size_t>(count);
-  // The gating network over every window's conditioning columns: rows of consecutive windows are
-  // consecutive, so all are projected at once, then everyone's GRUs step together.
-  gating_l0.project_inputs_batch(windows + kPoseSize, kUgnetColumns, count * kWindowRows,
-                                 m.gi_gating);
-  std::fill_n(m.gating_h0, n * kExperts, 0.0f);
-  std::fill_n(m.omega, n * kExperts, 0.0f);
-  constexpr std::size_t kGatingStride = kWindowRows * 3 * kExperts;
-  for (int t = 0; t < kWindowRows; ++t) {
-    step_two_layers_batch(gating_l0, gating_l1, m.gi_gating + t * 3 * kExperts, kGatingStride,
-                          m.gating_h0, m.omega, m.gi_gating_l1, m.gh, count);
-  }
-  for (std::size_t r = 0; r < n; ++r) {
-    Eigen::Map<Eigen::Matrix<float, kExperts, 1>> omega(m.omega + r * kExperts);
-    softmax_inplace(omega);
-    Eigen::Map<ConditionVector>(m.condition + r * kConditionSize) =
-        condition_vector(UgnetWindow(windows + r * kUgnetWindowSize, kUgnetWindowSize));
-  }
-
-  run_experts_batch(expert_l1, expert_l2, expert_l3, m.condition, kConditionSize, m.omega, count,
-                    m.all, m.h1, m.h2, out);
+  run_moe(*this, windows, count, out, UgnetBatchMemory(buffers, count),
+          panel_order.next_is_reversed());
 }
 
 }  // namespace deixis::nn

@@ -1,8 +1,10 @@
 // The networks' batch path (nn/batch.h) against one window at a time: for every person of a batch
-// of 1, 3 and 64, run_batch() gives what run() gives on that person's window, within 1e-5, on the
-// authors' checkpoints (../shared/reference) and the shipped weights (assets/weights), on the
-// fixtures' real windows and on random ones. Architectures without a batched path go through the
-// same API window by window, so theirs must be identical.
+// of 1, 3 and 64, run_batch() gives what run() gives on that person's window, on the authors'
+// checkpoints (../shared/reference) and the shipped weights (assets/weights), on the fixtures'
+// real windows and on random ones. The requirement is 1e-5; run() and run_batch() share their
+// code and nn/batch.h's products give a row the same bits alone or in a batch, so the MoE
+// networks agree bit for bit, and that is what is checked (a change that breaks it should be a
+// decision, not an accident). Architectures without a batched path go window by window.
 
 #include <gtest/gtest.h>
 
@@ -22,7 +24,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr float kTolerance = 1e-5f;
 constexpr std::size_t kBatchSizes[] = {1, 3, 64};
 
 fs::path authors(const std::string& hand) {
@@ -65,7 +66,7 @@ std::vector<float> random_windows(std::size_t count, int columns, float low, flo
 
 // Random windows that stay plausible: the fixture's real windows, every value moved by Gaussian
 // noise (σ = 0.05). Far out of distribution (uniform levels in ±1 everywhere) UGNet's outputs reach
-// |y| ≈ 25, where float32's own spacing is 2e-6; those are checked relative to |y| below.
+// |y| ≈ 25, where float32's own spacing is 2e-6; their differences, if any, are taken relative.
 std::vector<float> perturbed(std::vector<float> windows, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<float> noise(0.0f, 0.05f);
@@ -156,9 +157,9 @@ TEST_P(MoeBatches, MpnetBatchEqualsOneByOne) {
     std::cout << "[ measured ] " << file.filename() << " " << hand << ": max |batch - alone| "
               << real_error << " (fixture windows), " << random_error << " (random, plausible), "
               << far_error << " (random levels)\n";
-    EXPECT_LE(real_error, kTolerance) << file;
-    EXPECT_LE(random_error, kTolerance) << file;
-    EXPECT_LE(far_error, kTolerance) << file;
+    EXPECT_EQ(real_error, 0.0f) << file;
+    EXPECT_EQ(random_error, 0.0f) << file;
+    EXPECT_EQ(far_error, 0.0f) << file;
   }
 }
 
@@ -179,22 +180,13 @@ TEST_P(MoeBatches, UgnetBatchEqualsOneByOne) {
     std::cout << "[ measured ] " << file.filename() << " " << hand << ": max |batch - alone| "
               << real_error << " (fixture windows), " << random_error
               << " (random, plausible); relative " << far_error << " (far out of distribution)\n";
-    EXPECT_LE(real_error, kTolerance) << file;
-    EXPECT_LE(random_error, kTolerance) << file;
-    EXPECT_LE(far_error, kTolerance) << file;
+    EXPECT_EQ(real_error, 0.0f) << file;
+    EXPECT_EQ(random_error, 0.0f) << file;
+    EXPECT_EQ(far_error, 0.0f) << file;
   }
 }
 
 INSTANTIATE_TEST_SUITE_P(Hands, MoeBatches, ::testing::Values("right", "left"));
-
-// The batch really differs from a loop over run() in how it computes (a positive control for the
-// comparisons above: identical code would pass them trivially), yet stays within tolerance.
-TEST(MoeBatch, BatchIsComputedDifferentlyButAgrees) {
-  const Ugnet ugnet = Ugnet::load(authors("right") / "UGNet(MoE)(AC)120.safetensors");
-  const float error = ugnet_batch_error(ugnet, fixture_windows("UGNet_MoE_right"));
-  EXPECT_GT(error, 0.0f);
-  EXPECT_LE(error, kTolerance);
-}
 
 // A batch after a larger one reuses the buffers without stale values leaking in.
 TEST(MoeBatch, SmallerBatchAfterLargerIsUnaffected) {
