@@ -80,6 +80,7 @@ struct RemotePeople::Slot {
   Pose T_world_origin;  // the spot's avatar root O
   bool taken = false;
   bool live = false;
+  bool queued = false;  // in tick()'s current round
   PersonStats stats;
   std::optional<presence::RemoteAvatar> avatar;
   std::optional<presence::PoseCopy> copy;         // the copy-paste baseline, when measuring
@@ -98,6 +99,9 @@ RemotePeople::RemotePeople(const SiteConfig& site, const std::array<MoeNetworks,
   }
   targets_.reserve(slots_.size() + 1);
   visible_.reserve(slots_.size());
+  round_.reserve(slots_.size());
+  const MoeNetworks& right = networks[static_cast<std::size_t>(index(Hand::kRight))];
+  buffers_.reserve(slots_.size(), right.mpnet, right.ugnet);
 }
 
 RemotePeople::~RemotePeople() = default;
@@ -228,25 +232,57 @@ bool RemotePeople::play(const PersonFrame& f, const LocalTargets& room, double t
   if (slot == nullptr) {
     return false;
   }
-  presence::RemoteAvatar& avatar = *slot->avatar;
-  avatar.tick(f.frame, room);
-  slot->stats.frames_played += f.frame != nullptr ? 1 : 0;
-  slot->stats.frames_missed += f.frame == nullptr ? 1 : 0;
-  if (slot->observer && f.frame != nullptr && avatar.visible() && room.map != nullptr) {
-    const eval::AvatarChain chain{avatar.eye_midpoint(), avatar.index_fingertip(),
-                                  slot->T_world_origin};
-    slot->observer->observe(*f.frame, f.sequence, time, chain, *slot->copy, *room.map,
-                            f.remote_map);
-    slot->gaze.observe(avatar, *f.frame, room);
-  }
+  slot->avatar->tick(f.frame, room);
+  after_tick(*slot, f, room, time);
   return true;
+}
+
+// What follows a person's avatar tick: their counters and the observers.
+void RemotePeople::after_tick(Slot& slot, const PersonFrame& f, const LocalTargets& room,
+                              double time) {
+  const presence::RemoteAvatar& avatar = *slot.avatar;
+  slot.stats.frames_played += f.frame != nullptr ? 1 : 0;
+  slot.stats.frames_missed += f.frame == nullptr ? 1 : 0;
+  if (slot.observer && f.frame != nullptr && avatar.visible() && room.map != nullptr) {
+    const eval::AvatarChain chain{avatar.eye_midpoint(), avatar.index_fingertip(),
+                                  slot.T_world_origin};
+    slot.observer->observe(*f.frame, f.sequence, time, chain, *slot.copy, *room.map, f.remote_map);
+    slot.gaze.observe(avatar, *f.frame, room);
+  }
 }
 
 void RemotePeople::tick(std::span<const PersonFrame> frames, const LocalTargets& room,
                         double time) {
-  // One by one for now: presence::tick_people batches the networks across people when it lands.
+  std::size_t begin = 0;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    Slot* slot = find(frames[i].person);
+    if (slot == nullptr) {
+      continue;
+    }
+    if (slot->queued) {  // their second frame: the round so far goes first
+      run_round(frames.subspan(begin, i - begin), room, time);
+      begin = i;
+    }
+    slot->queued = true;
+    round_.push_back({&*slot->avatar, frames[i].frame});
+  }
+  run_round(frames.subspan(begin), room, time);
+}
+
+// One frame per person at most: the networks batched across them, then each one's counters.
+void RemotePeople::run_round(std::span<const PersonFrame> frames, const LocalTargets& room,
+                             double time) {
+  if (round_.empty()) {
+    return;
+  }
+  presence::tick_people(round_, room, buffers_);
+  round_.clear();
   for (const PersonFrame& f : frames) {
-    play(f, room, time);
+    Slot* slot = find(f.person);
+    if (slot != nullptr && slot->queued) {
+      slot->queued = false;
+      after_tick(*slot, f, room, time);
+    }
   }
 }
 

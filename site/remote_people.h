@@ -12,7 +12,8 @@
 // Driving it, once per 30 Hz tick (a room session, or the direct SitePeer with one person):
 //   meet(id, hello) / leave(id) as people come and go;
 //   room.people = people_targets(self, own_head);
-//   play(...) each person's due frame (null: missed) — or tick() a batch of them;
+//   tick() a batch of due frames, one per person (null: missed), the networks batched across
+//   people — or play() one person's;
 //   end_tick() counts visible ticks; visible() lists the avatars to draw.
 // Once everyone has met, nothing here allocates per tick.
 
@@ -27,6 +28,7 @@
 
 #include "eval/deictic_observer.h"
 #include "net/messages.h"
+#include "presence/people_tick.h"
 #include "presence/pose_copy.h"
 #include "presence/remote_avatar.h"
 #include "site/moe_weights.h"
@@ -85,7 +87,9 @@ class RemotePeople {
   // missed frame, the avatar holds). `time`: s since the run began (for the observer). Unknown
   // ids are ignored (false).
   bool play(const PersonFrame& frame, const LocalTargets& room, double time = 0.0);
-  // Plays a tick's frames, at most one per person each, in order.
+  // Plays a tick's frames with the networks batched across people (presence::tick_people; equal
+  // to play() one by one within 1e-5). A person given twice plays both frames, in order, in
+  // rounds of one frame per person. Unknown ids are ignored.
   void tick(std::span<const PersonFrame> frames, const LocalTargets& room, double time = 0.0);
   // Whether a present person's stream is live (the direct session hides the avatar while its
   // stream is down, keeping it for a reconnect). On by meet().
@@ -118,6 +122,8 @@ class RemotePeople {
   PersonRecord& record_of(const std::string& site);
   void fold_into_record(Slot& slot);
   void list_visible();
+  void after_tick(Slot& slot, const PersonFrame& frame, const LocalTargets& room, double time);
+  void run_round(std::span<const PersonFrame> frames, const LocalTargets& room, double time);
 
   const SiteConfig& site_;
   const std::array<MoeNetworks, 2>& networks_;
@@ -126,6 +132,8 @@ class RemotePeople {
   std::vector<std::unique_ptr<Slot>> slots_;  // one per spot
   std::size_t present_ = 0;
   std::vector<PersonTarget> targets_;
+  std::vector<presence::PersonTick> round_;  // tick(): this round's avatars and frames
+  presence::PeopleTickBuffers buffers_;
   std::vector<const presence::RemoteAvatar*> visible_;
   std::vector<PersonRecord> records_;  // of people who left (present people are added on read)
 };

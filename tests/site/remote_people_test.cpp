@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -339,6 +340,45 @@ TEST(RemotePeople, OnePersonsMissingFramesAffectOnlyTheirAvatar) {
     differs += whole[i][1] != lossy[i][1] ? 1 : 0;
   }
   EXPECT_GT(differs, 30u);  // person 2 held still while their hand was moving
+}
+
+// tick() runs the networks batched across people (presence::tick_people): the avatars end where
+// playing each person alone puts them, within 1e-5 m; a person given twice in one tick plays
+// both frames in order, as two plays would.
+TEST(RemotePeople, ABatchedTickIsPlayingEachPersonAlone) {
+  const SiteConfig c = site_config("c.json");
+  const std::vector<ScriptStep> pointing = {step(Action::kPoint, 1, 0.5f)};
+  const Performer a("a.json", pointing, {}, {});
+  const Performer b("b.json", pointing, {}, {});
+  RemotePeople batched(c, shared().networks, shared().solver);
+  RemotePeople alone(c, shared().networks, shared().solver);
+  for (RemotePeople* people : {&batched, &alone}) {
+    people->meet(1, hello("A", a.body()));
+    people->meet(2, hello("B", b.body()));
+  }
+  const LocalTargets room{&c.target_map, Vec3(0, 1.6f, 0)};
+  float worst = 0.0f;
+  for (std::size_t i = 0; i < 60; i += 2) {
+    // Person 2 twice (a late loop catching up), person 1 once, then missed.
+    const std::array<PersonFrame, 4> frames = {
+        PersonFrame{2, &b.frame(i)}, PersonFrame{1, &a.frame(i)}, PersonFrame{2, &b.frame(i + 1)},
+        PersonFrame{1, nullptr}};
+    batched.tick(frames, room);
+    for (const PersonFrame& f : frames) {
+      alone.play(f, room);
+    }
+    for (PersonId id : {PersonId{1}, PersonId{2}}) {
+      worst = std::max(
+          {worst,
+           (batched.avatar(id)->index_fingertip() - alone.avatar(id)->index_fingertip()).norm(),
+           (batched.avatar(id)->eye_midpoint() - alone.avatar(id)->eye_midpoint()).norm()});
+    }
+  }
+  EXPECT_LT(worst, 1e-5f);
+  EXPECT_EQ(batched.stats(2)->frames_played, 60u);
+  EXPECT_EQ(batched.stats(1)->frames_played, 30u);
+  EXPECT_EQ(batched.stats(1)->frames_missed, 30u);
+  EXPECT_EQ(batched.avatar(2)->stats().ticks, alone.avatar(2)->stats().ticks);
 }
 
 TEST(RemotePeople, ScriptedPeopleResolveToWhoeverOfThatSiteIsHere) {
