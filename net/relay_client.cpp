@@ -224,6 +224,17 @@ void RelayClient::on_packet(Channel channel, std::span<const std::byte> bytes, d
     drop_log_.drop(now, peer, channel, type, wire_error(DropReason::kUnexpected, "state"));
   };
   const auto bad = [&](WireResult e) { drop_log_.drop(now, peer, channel, type, e); };
+  // A message of the room through its decoder to `use`, if the client's state allows it now.
+  const auto accept = [&](auto message, bool allowed, auto&& use) {
+    if (!allowed) {
+      return unexpected();
+    }
+    if (const WireResult e = decode(bytes, message); !e.ok()) {
+      return bad(e);
+    }
+    last_heard_ = now;
+    use(message);
+  };
   switch (static_cast<RelayType>(type)) {
     case RelayType::kWelcome: {
       if (welcomed_) {
@@ -245,43 +256,20 @@ void RelayClient::on_packet(Channel channel, std::span<const std::byte> bytes, d
       ++stats_.welcomes;
       return listener.on_relay_ready();
     }
-    case RelayType::kEntered: {
-      if (!entering_ || in_room_) {
-        return unexpected();
-      }
-      RelayEntered m;
-      if (const WireResult e = decode(bytes, m); !e.ok()) {
-        return bad(e);
-      }
-      last_heard_ = now;
-      entering_ = false;
-      in_room_ = true;
-      self_ = m.self;
-      ++stats_.entries;
-      return listener.on_entered(m.self, m.params, std::span(m.members).first(m.count));
-    }
-    case RelayType::kJoined: {
-      RelayJoined m;
-      if (!in_room_) {
-        return unexpected();
-      }
-      if (const WireResult e = decode(bytes, m); !e.ok()) {
-        return bad(e);
-      }
-      last_heard_ = now;
-      return listener.on_member_joined(m.member);
-    }
-    case RelayType::kLeft: {
-      RelayLeft m;
-      if (!in_room_) {
-        return unexpected();
-      }
-      if (const WireResult e = decode(bytes, m); !e.ok()) {
-        return bad(e);
-      }
-      last_heard_ = now;
-      return listener.on_member_left(m.id);
-    }
+    case RelayType::kEntered:
+      return accept(RelayEntered{}, entering_ && !in_room_, [&](const RelayEntered& m) {
+        entering_ = false;
+        in_room_ = true;
+        self_ = m.self;
+        ++stats_.entries;
+        listener.on_entered(m.self, m.params, std::span(m.members).first(m.count));
+      });
+    case RelayType::kJoined:
+      return accept(RelayJoined{}, in_room_,
+                    [&](const RelayJoined& m) { listener.on_member_joined(m.member); });
+    case RelayType::kLeft:
+      return accept(RelayLeft{}, in_room_,
+                    [&](const RelayLeft& m) { listener.on_member_left(m.id); });
     case RelayType::kRefused: {
       RelayRefused m;
       if (const WireResult e = decode(bytes, m); !e.ok()) {
@@ -301,19 +289,12 @@ void RelayClient::on_packet(Channel channel, std::span<const std::byte> bytes, d
       }
       return lost(now, listener, "refused");
     }
-    case RelayType::kForwarded: {
-      RelayForwarded m;
-      if (!in_room_) {
-        return unexpected();
-      }
-      if (const WireResult e = decode(bytes, m); !e.ok()) {
-        return bad(e);
-      }
-      last_heard_ = now;
-      ++stats_.received;
-      stats_.bytes_received += m.payload.size();
-      return listener.on_payload(m.from, channel, as_u8(m.payload));
-    }
+    case RelayType::kForwarded:
+      return accept(RelayForwarded{}, in_room_, [&](const RelayForwarded& m) {
+        ++stats_.received;
+        stats_.bytes_received += m.payload.size();
+        listener.on_payload(m.from, channel, as_u8(m.payload));
+      });
     case RelayType::kKeepalive:
       if (const WireResult e = decode_keepalive(bytes); !e.ok()) {
         return bad(e);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,14 +17,16 @@
 namespace deixis::app {
 namespace {
 
-// Enters when the relay is ready; counts what happens.
-struct Entering : net::RelayListener {
-  net::RelayClient* client = nullptr;
-  int lost = 0;
+// A room member on the relay at `port`: enters when the relay is ready, counts losses, and polls
+// on its own clock.
+class Member : public net::RelayListener {
+ public:
+  Member(int port, const std::string& room) : client_(options(port, room), 0.0) {}
+
   void on_relay_ready() override {
     const std::uint8_t params[1] = {1};
     const std::uint8_t announce[1] = {2};
-    client->enter(params, announce);
+    client_.enter(params, announce);
   }
   void on_entered(net::MemberId, std::span<const std::uint8_t>,
                   std::span<const net::RoomMember>) override {}
@@ -32,33 +35,42 @@ struct Entering : net::RelayListener {
   void on_payload(net::MemberId, net::Channel, std::span<const std::uint8_t>) override {}
   void on_refused(net::RelayRefusal) override {}
   void on_relay_lost() override { ++lost; }
-};
 
-double seconds_since(Clock::time_point t) {
-  return std::chrono::duration<double>(Clock::now() - t).count();
-}
+  double seconds() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+  // Polls until `done` or `seconds` more pass; whether `done`.
+  bool poll_until(const std::function<bool()>& done, double seconds_more) {
+    const double until = seconds() + seconds_more;
+    while (!done() && seconds() < until) {
+      client_.poll(seconds(), *this, 5);
+    }
+    return done();
+  }
+  bool in_room() const { return client_.in_room(); }
+  net::MemberId self() const { return client_.self(); }
+
+  int lost = 0;
+
+ private:
+  static net::RelayClientOptions options(int port, const std::string& room) {
+    net::RelayClientOptions o;
+    o.port = static_cast<std::uint16_t>(port);
+    o.room = net::room_token(room);
+    return o;
+  }
+  Clock::time_point start_ = Clock::now();
+  net::RelayClient client_;
+};
 
 TEST(RelayCommand, ServesAMemberAndExitsZeroOnSigterm) {
   Deixis relay({"relay", "--port", "0", "--max-people", "4"});
   const int port = relay.port();
   ASSERT_GT(port, 0) << relay.err();
-  net::RelayClientOptions o;
-  o.port = static_cast<std::uint16_t>(port);
-  o.room = net::room_token("process");
-  const auto start = Clock::now();
-  net::RelayClient client(o, 0.0);
-  Entering member;
-  member.client = &client;
-  while (!client.in_room() && seconds_since(start) < 5.0) {
-    client.poll(seconds_since(start), member, 5);
-  }
-  ASSERT_TRUE(client.in_room());
-  EXPECT_GE(client.self(), net::kFirstMember);
+  Member member(port, "process");
+  ASSERT_TRUE(member.poll_until([&] { return member.in_room(); }, 5.0));
+  EXPECT_GE(member.self(), net::kFirstMember);
   relay.send_signal(SIGTERM);
-  while (member.lost == 0 && seconds_since(start) < 10.0) {
-    client.poll(seconds_since(start), member, 5);
-  }
-  EXPECT_EQ(member.lost, 1) << "the member hears the relay go";
+  EXPECT_TRUE(member.poll_until([&] { return member.lost == 1; }, 5.0))
+      << "the member hears the relay go";
   EXPECT_EQ(relay.wait(), 0) << relay.err();
   const std::string log = relay.out() + relay.err();  // spdlog writes to standard output
   EXPECT_NE(log.find("entered"), std::string::npos) << "joins are logged: " << log;
@@ -69,34 +81,19 @@ TEST(RelayCommand, AMemberIsBackWithin5sOfAKilledRelayStartedAgain) {
   auto relay = std::make_unique<Deixis>(std::vector<std::string>{"relay", "--port", "0"});
   const int port = relay->port();
   ASSERT_GT(port, 0) << relay->err();
-  net::RelayClientOptions o;
-  o.port = static_cast<std::uint16_t>(port);
-  o.room = net::room_token("restart");
-  const auto start = Clock::now();
-  net::RelayClient client(o, 0.0);
-  Entering member;
-  member.client = &client;
-  while (!client.in_room() && seconds_since(start) < 5.0) {
-    client.poll(seconds_since(start), member, 5);
-  }
-  ASSERT_TRUE(client.in_room());
+  Member member(port, "restart");
+  ASSERT_TRUE(member.poll_until([&] { return member.in_room(); }, 5.0));
   relay->send_signal(SIGKILL);  // no goodbye: the member has only the silence to go by
   relay->wait();
-  const double killed = seconds_since(start);
-  while (member.lost == 0 && seconds_since(start) < killed + 5.0) {
-    client.poll(seconds_since(start), member, 5);
-  }
-  ASSERT_EQ(member.lost, 1);
-  EXPECT_LT(seconds_since(start) - killed, 2.0) << "a dead relay is noticed within 2 s";
+  const double killed = member.seconds();
+  ASSERT_TRUE(member.poll_until([&] { return member.lost == 1; }, 5.0));
+  EXPECT_LT(member.seconds() - killed, 2.0) << "a dead relay is noticed within 2 s";
   relay =
       std::make_unique<Deixis>(std::vector<std::string>{"relay", "--port", std::to_string(port)});
   ASSERT_EQ(relay->port(), port) << relay->err();
-  const double listening = seconds_since(start);
-  while (!client.in_room() && seconds_since(start) < listening + 10.0) {
-    client.poll(seconds_since(start), member, 5);
-  }
-  ASSERT_TRUE(client.in_room());
-  EXPECT_LT(seconds_since(start) - listening, 5.0) << "back in the room within 5 s";
+  const double listening = member.seconds();
+  ASSERT_TRUE(member.poll_until([&] { return member.in_room(); }, 10.0));
+  EXPECT_LT(member.seconds() - listening, 5.0) << "back in the room within 5 s";
   relay->send_signal(SIGTERM);
   EXPECT_EQ(relay->wait(), 0);
 }
