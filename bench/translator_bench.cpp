@@ -2,14 +2,24 @@
 // thread, and the whole remote avatar's tick (that, touch contact and the whole-avatar IK on the
 // default avatar). Goals: tick ≤ 60 µs, IK ≤ 10 µs; the paper's MPNet + UGNet + IK took
 // 6.7 ms.
+//
+// BM_PeopleTick/N: a site's whole tick for N remote people (presence::tick_people: the networks
+// batched across people, then touch contact and IK per person), docs/scaling.md. Counters:
+// us_per_person (CPU time of the tick / N), net_us_per_person (the batched MPNet + UGNet alone on
+// the same N windows) and net_share (their part of the tick). Goal: at N = 64, us_per_person at
+// most a third of N = 1's in the same run, and net_us_per_person ≤ 12 µs.
 
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <ctime>
 #include <filesystem>
+#include <memory>
+#include <vector>
 
 #include "avatar/avatar_loader.h"
 #include "gesture/translator.h"
+#include "presence/people_tick.h"
 #include "presence/remote_avatar.h"
 
 namespace {
@@ -90,7 +100,89 @@ void BM_RemoteAvatarTick(benchmark::State& state) {
   }
 }
 
+// This thread's CPU time in seconds (the machine may be shared: wall time would count others).
+double thread_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+void BM_PeopleTick(benchmark::State& state) {
+  const auto people = static_cast<std::size_t>(state.range(0));
+  const auto w = reference_dir() / "weights/right";
+  const nn::Mpnet mpnet = nn::Mpnet::load(w / "MPNet(MoE)(AC)80.safetensors");
+  const nn::Ugnet ugnet = nn::Ugnet::load(w / "UGNet(MoE)(AC)120.safetensors");
+  const ik::AvatarSolver solver = ik::AvatarSolver::build(
+      avatar::load_avatar(std::filesystem::path(DEIXIS_SOURCE_DIR) / "assets/avatars/default.glb")
+          .rig);
+  // Everyone on a ring around the room's middle, each at their own moment of the same motion.
+  std::vector<std::unique_ptr<presence::RemoteAvatar>> avatars;
+  for (std::size_t k = 0; k < people; ++k) {
+    presence::RemoteAvatarConfig config;
+    config.user.T_world_root = Pose{Mat3::Identity(), Vec3(0, 1.6f, 0)};
+    const float yaw = 6.2832f * static_cast<float>(k) / static_cast<float>(people);
+    config.T_world_floor = Pose{yaw_rotation(yaw), Vec3(3 * std::sin(yaw), 0, 3 * std::cos(yaw))};
+    avatars.push_back(std::make_unique<presence::RemoteAvatar>(mpnet, ugnet, solver, config));
+  }
+  TargetMap room;
+  room.objects.push_back(
+      {1, "Jupiter", TargetKind::kSphere, Vec3(-1, 1.4f, -3), Vec3(0.4f, 0.4f, 0.4f)});
+  const LocalTargets targets{&room, Vec3(0, 1.6f, -2)};
+  std::vector<TrackingFrame> frames;
+  for (int i = 0; i < 256; ++i) {
+    frames.push_back(frame_at(i));
+  }
+  std::vector<presence::PersonTick> tick(people);
+  presence::PeopleTickBuffers buffers;
+  buffers.reserve(people, mpnet, ugnet);
+  std::size_t i = 0;
+  const auto one_tick = [&] {
+    for (std::size_t k = 0; k < people; ++k) {
+      tick[k] = {avatars[k].get(), &frames[(i + 37 * k) % frames.size()]};
+    }
+    presence::tick_people(tick, targets, buffers);
+    ++i;
+  };
+  one_tick();  // everyone's first frame: the translators start
+
+  const double start = thread_seconds();
+  for (auto _ : state) {
+    one_tick();
+    benchmark::DoNotOptimize(avatars.back()->model_pose().data());
+  }
+  const double tick_seconds = (thread_seconds() - start) / static_cast<double>(state.iterations());
+
+  // The networks alone on the windows of the last tick, batched as tick_people runs them.
+  std::vector<float> mpnet_windows, ugnet_windows;
+  for (const auto& avatar : avatars) {
+    const Translator& t = avatar->translator();
+    mpnet_windows.insert(mpnet_windows.end(), t.mpnet_window().begin(), t.mpnet_window().end());
+    ugnet_windows.insert(ugnet_windows.end(), t.ugnet_window().begin(), t.ugnet_window().end());
+  }
+  std::vector<nn::MpnetOutput> progressions(people);
+  std::vector<float> predictions(people * nn::kPoseSize);
+  nn::BatchBuffers nets;
+  const auto run_networks = [&] {
+    mpnet.run_batch(mpnet_windows, progressions, nets);
+    ugnet.run_batch(ugnet_windows, {}, predictions, nets);
+    benchmark::DoNotOptimize(predictions.data());
+  };
+  run_networks();
+  const auto repeats = std::max<benchmark::IterationCount>(10, state.iterations() / 2);
+  const double net_start = thread_seconds();
+  for (benchmark::IterationCount r = 0; r < repeats; ++r) {
+    run_networks();
+  }
+  const double net_seconds = (thread_seconds() - net_start) / static_cast<double>(repeats);
+
+  const double n = static_cast<double>(people);
+  state.counters["us_per_person"] = 1e6 * tick_seconds / n;
+  state.counters["net_us_per_person"] = 1e6 * net_seconds / n;
+  state.counters["net_share"] = net_seconds / tick_seconds;
+}
+
 }  // namespace
 
 BENCHMARK(BM_TranslatorTick)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RemoteAvatarTick)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_PeopleTick)->Arg(1)->Arg(4)->Arg(16)->Arg(64)->Unit(benchmark::kMicrosecond);
