@@ -14,6 +14,7 @@
 
 #include "app/commands.h"
 #include "app/defaults.h"
+#include "core/io/text_rules.h"
 #include "site/endpoint.h"
 
 namespace deixis::app {
@@ -348,12 +349,38 @@ void add_join(CLI::App& program, const Invocation&, std::vector<Runner>& runners
   add_site_flags(cmd, o);
   add_passphrase_flags(cmd, join->pass, false);
   add_endpoint_option(
-      cmd, "--connect", o.address, o.port, [] {}, "The host, HOST:PORT")
+      cmd, "--connect", o.address, o.port, [] {},
+      "The host, HOST:PORT; with --room, the relay (`deixis relay`)")
       ->required();
+  CLI::Option* room =
+      cmd->add_option("--room", o.room,
+                      "Enter the room NAME on the relay --connect names, with everyone else who "
+                      "enters it (docs/relay.md): each remote person is an avatar on one of the "
+                      "site's spots. Everyone in a room gives the same passphrase; without one "
+                      "the room is open, and readable by the relay's operator")
+          ->check(CLI::Validator(
+              [](std::string& name) -> std::string {
+                return !name.empty() && name.size() <= 64 && is_wire_text(name)
+                           ? std::string()
+                           : "a room name is 1 to 64 bytes of UTF-8 without control characters";
+              },
+              "NAME"));
+  cmd->add_flag("--open", join->pass.input.open,
+                "Enter an open room (no passphrase) through a relay beyond this machine: its "
+                "operator and anyone on the path can read this site's motion. Without a "
+                "passphrase and without --open, such a join exits 2")
+      ->needs(room);
+  cmd->add_option("--drop-tracking", o.drop_tracking,
+                  "Rehearse a bad link: leave this share (0 to 0.9) of the user's frames unsent")
+      ->check(CLI::Range(0.0, 0.9))
+      ->needs(room);
   runners.push_back(
       {cmd, [join] {
          site::SiteRunOptions& r = join->options;
          if (!prepare_session("join", join->pass.given(), false, r.address, r.passphrase)) {
+           return 2;
+         }
+         if (!r.room.empty() && !may_enter_room(join->pass.given(), r.address, r.passphrase)) {
            return 2;
          }
          return run_site(r);

@@ -112,4 +112,21 @@ bool prepare_session(const char* command, const PassphraseInput& input, bool hos
          (!hosting || may_host(command, input, address, passphrase));
 }
 
+bool may_enter_room(const PassphraseInput& input, const std::string& relay,
+                    const std::string& passphrase) {
+  site::allow_open_sessions(input.open);
+  const std::string problem = site::open_room_problem(relay, !passphrase.empty());
+  if (!problem.empty()) {
+    std::fprintf(stderr, "deixis join: %s\n", problem.c_str());
+    return false;
+  }
+  if (passphrase.empty() && !site::binds_loopback_only(relay)) {
+    std::fprintf(stderr,
+                 "deixis join: warning: an open room (--open, no passphrase) through the relay at "
+                 "%s: its operator and anyone on the path can read this site's motion\n",
+                 relay.c_str());
+  }
+  return true;
+}
+
 }  // namespace deixis::app

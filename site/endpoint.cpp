@@ -99,6 +99,18 @@ std::string open_session_warning(const std::string& address) {
          "gaze, body measurements and the room's targets), unencrypted";
 }
 
+std::string open_room_problem(const std::string& relay, bool has_passphrase) {
+  if (has_passphrase || open_sessions_allowed() || binds_loopback_only(relay)) {
+    return {};
+  }
+  return "the relay " + (relay.empty() ? std::string("\"\"") : relay) +
+         " is beyond this machine, and the room has no passphrase: the relay's operator and "
+         "anyone on the path could read this site's motion. Give the room's passphrase (the " +
+         std::string(kPassphraseVariable) +
+         " environment variable, --passphrase-file FILE or --ask-passphrase), or pass --open to "
+         "enter an open room knowingly";
+}
+
 // ---- Passphrase input ----
 
 std::string read_passphrase_file(const std::filesystem::path& file, std::string& passphrase,

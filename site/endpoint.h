@@ -39,6 +39,11 @@ std::string host_exposure_problem(const std::string& address, bool has_passphras
 // The warning an open session prints when it starts (--open, no passphrase).
 std::string open_session_warning(const std::string& address);
 
+// Why a site may not enter an open room (no passphrase) through the relay at `relay` (empty: it
+// may): the relay is beyond this machine, so its operator and anyone on the path would read this
+// site's motion, and open sessions were not allowed (--open). The text says what to do.
+std::string open_room_problem(const std::string& relay, bool has_passphrase);
+
 // ---- Passphrase input ----
 
 // The environment variable a passphrase is read from when no flag gives one.

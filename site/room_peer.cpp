@@ -31,14 +31,38 @@ net::RoomConfig room_config(const RoomPeerOptions& options, const SiteConfig& si
 
 }  // namespace
 
+class RoomPeer::LossyTransport final : public net::RoomTransport {
+ public:
+  LossyTransport(net::RoomTransport& inner, double loss, std::uint32_t seed, RoomPeerStats& stats)
+      : inner_(inner), loss_(loss), rng_(seed), stats_(stats) {}
+  bool enter(std::span<const std::uint8_t> params,
+             std::span<const std::uint8_t> announce) override {
+    return inner_.enter(params, announce);
+  }
+  bool send(net::MemberId to, net::Channel channel,
+            std::span<const std::uint8_t> payload) override {
+    if (channel == net::Channel::kTracking && loss_ > 0.0 &&
+        std::uniform_real_distribution<double>(0.0, 1.0)(rng_) < loss_) {
+      ++stats_.dropped_on_purpose;
+      return true;  // lost on the way, as far as the sender can tell
+    }
+    return inner_.send(to, channel, payload);
+  }
+
+ private:
+  net::RoomTransport& inner_;
+  double loss_;
+  std::mt19937 rng_;
+  RoomPeerStats& stats_;
+};
+
 RoomPeer::RoomPeer(const RoomPeerOptions& options, const SiteConfig& site,
                    const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
                    const ik::AvatarSolver& solver, double now)
     : site_(site),
       options_(options),
       people_(site, networks, solver, options.people),
-      started_(now),
-      drop_rng_(options.drop_seed) {
+      started_(now) {
   if (options_.room.empty()) {
     throw Error("room: a room name is needed (--room NAME)");
   }
@@ -47,7 +71,9 @@ RoomPeer::RoomPeer(const RoomPeerOptions& options, const SiteConfig& site,
   relay.port = options_.relay_port;
   relay.room = net::room_token(options_.room);
   client_ = std::make_unique<net::RelayClient>(relay, now);
-  transport_ = std::make_unique<net::RelayTransport>(*client_);
+  relay_transport_ = std::make_unique<net::RelayTransport>(*client_);
+  transport_ = std::make_unique<LossyTransport>(*relay_transport_, options_.drop_tracking,
+                                                options_.drop_seed, stats_);
   session_ = std::make_unique<net::RoomSession>(*transport_, room_config(options_, site, user));
   // At most one frame per person per round: sized once for every spot.
   batch_.reserve(people_.capacity());
@@ -99,6 +125,7 @@ void RoomPeer::take_events() {
         }
         break;
       case net::RoomEventKind::kLeft:
+        count_received(e.person);
         if (const PersonStats* person = people_.stats(e.person); person != nullptr) {
           spdlog::info("room {}: {} left ({})", options_.room, person->site,
                        net::left_because_name(e.why));
@@ -113,6 +140,12 @@ void RoomPeer::take_events() {
   }
 }
 
+void RoomPeer::count_received(net::MemberId person) {
+  if (const net::PersonStats* s = session_->person_stats(person); s != nullptr) {
+    stats_.tracking_received += s->tracking_received;
+  }
+}
+
 void RoomPeer::poll(double now) {
   service(now, 0);
 }
@@ -124,10 +157,7 @@ void RoomPeer::tick(const TrackingFrame& user, double sampled, double now,
   if (in_room()) {
     TrackingFrame frame = user;
     frame.time = sampled;  // the sampling time, not when a late loop got to it (as SitePeer)
-    if (options_.drop_tracking > 0.0 &&
-        std::uniform_real_distribution<double>(0.0, 1.0)(drop_rng_) < options_.drop_tracking) {
-      ++stats_.dropped_on_purpose;
-    } else if (session_->send_tracking(frame, sampled)) {
+    if (session_->send_tracking(frame, sampled)) {
       ++stats_.sent;
     }
   }
@@ -185,6 +215,9 @@ void RoomPeer::close(double now) {
     return;
   }
   closed_ = true;
+  for (const net::MemberId person : session_->people()) {
+    count_received(person);
+  }
   session_->leave(now);
   client_->close(now);
   people_.finish();

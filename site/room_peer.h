@@ -30,7 +30,8 @@ struct RoomPeerOptions {
   std::string room;  // the room's name (the relay sees only its hash)
   std::string passphrase;
   double wait = 30.0;  // s to reach the relay and enter the room
-  // Rehearsing a bad link: this share of the user's outgoing frames is not sent (0 in use).
+  // Rehearsing a bad link: this share of the user's outgoing tracking packets is lost on the
+  // way out, after the session numbered them, as a lossy network would (0 in use).
   double drop_tracking = 0.0;
   std::uint32_t drop_seed = 1;
   RemotePeopleOptions people;
@@ -38,7 +39,8 @@ struct RoomPeerOptions {
 
 struct RoomPeerStats {
   std::uint64_t ticks = 0, sent = 0, dropped_on_purpose = 0, played = 0, missed = 0;
-  std::uint64_t people_refused = 0;  // more people than spots: not shown
+  std::uint64_t people_refused = 0;     // more people than spots: not shown
+  std::uint64_t tracking_received = 0;  // frames decoded from everyone, including people who left
 };
 
 class RoomPeer {
@@ -75,19 +77,21 @@ class RoomPeer {
   void service(double now, std::uint32_t wait_ms);
   void check(double now) const;
   void take_events();
+  void count_received(net::MemberId person);  // before the session forgets them
   void play_due_frames(double now, const LocalTargets& room);
 
   const SiteConfig& site_;
   RoomPeerOptions options_;
   std::unique_ptr<net::RelayClient> client_;
-  std::unique_ptr<net::RelayTransport> transport_;
+  class LossyTransport;  // RelayTransport losing a share of tracking packets (drop_tracking)
+  std::unique_ptr<net::RelayTransport> relay_transport_;
+  std::unique_ptr<LossyTransport> transport_;
   std::unique_ptr<net::RoomSession> session_;
   RemotePeople people_;
   std::vector<PersonFrame> batch_;  // one round of due frames, at most one per person
   double started_ = 0.0;
   bool entered_once_ = false;
   bool closed_ = false;
-  std::mt19937 drop_rng_;
   RoomPeerStats stats_;
 };
 

@@ -6,11 +6,13 @@
 #include <chrono>
 #include <cstdio>
 #include <optional>
+#include <type_traits>
 
 #include "core/error.h"
 #include "eval/deictic_observer.h"
 #include "presence/pose_copy.h"
 #include "presence/remote_avatar.h"
+#include "site/room_peer.h"
 #include "site/site_peer.h"
 #include "site/site_view.h"
 
@@ -45,7 +47,9 @@ void push(std::vector<double>& values, double v) {
 // pose copied onto it (the copy-paste baseline), as the site runtime plays them.
 class RemoteMeasure final : public RemotePersonWatcher {
  public:
-  RemoteMeasure(const SiteAssets& assets, SiteRecord& record, const SitePeer& peer)
+  // `peer`: the direct session whose person is measured (null in a room, where RemotePeople
+  // measures each person and this watcher hears nothing).
+  RemoteMeasure(const SiteAssets& assets, SiteRecord& record, const SitePeer* peer)
       : a_(assets), record_(record), peer_(peer), observer_(kMaxCompletions) {}
 
   void start(double start) { start_ = start; }
@@ -68,7 +72,7 @@ class RemoteMeasure final : public RemotePersonWatcher {
     last_target_ = frame->hand_target;
     const eval::AvatarChain chain{avatar.eye_midpoint(), avatar.index_fingertip(),
                                   a_.T_world_remote_origin};
-    const net::Session& session = peer_.network().session();
+    const net::Session& session = peer_->network().session();
     observer_.observe(*frame, p.sequence, now_ - start_, chain, *copy_, a_.site.target_map,
                       session.remote_target_map());
   }
@@ -80,7 +84,7 @@ class RemoteMeasure final : public RemotePersonWatcher {
  private:
   const SiteAssets& a_;
   SiteRecord& record_;
-  const SitePeer& peer_;
+  const SitePeer* peer_;
   std::optional<presence::PoseCopy> copy_;
   eval::DeicticObserver observer_;
   TargetId last_target_ = kNoTarget;
@@ -88,29 +92,37 @@ class RemoteMeasure final : public RemotePersonWatcher {
   double now_ = 0.0;
 };
 
+// The 30 Hz loop of a scripted user, through either site runtime: a direct session (SitePeer:
+// one remote person, measured here by RemoteMeasure) or a room (RoomPeer: many people, each
+// measured by the room's RemotePeople).
+template <class Peer>
 class ScriptedSite {
+  static constexpr bool kRoom = std::is_same_v<Peer, RoomPeer>;
+
  public:
-  ScriptedSite(const SiteRunOptions& o, const SiteAssets& a, const ScriptedUser& user,
-               SitePeer& peer, SiteView* view)
+  ScriptedSite(const SiteRunOptions& o, const SiteAssets& a, const ScriptedUser& user, Peer& peer,
+               SiteView* view)
       : options_(o),
         a_(a),
         user_(user),
         peer_(peer),
         view_(view),
         user_copy_(user.body, a.solver, a.T_world_user_origin),
-        measure_(a, record_, peer) {
+        measure_(a, record_, peer_measured(peer)) {
     ticks_ =
         o.seconds > 0.0 ? static_cast<std::uint64_t>(o.seconds / kTick + 0.5) : user.frames.size();
     record_.translation_ms.reserve(2 * ticks_ + 64);
+    remote_pictures_.reserve(peer.people().capacity());
     record_.render_ms.reserve(ticks_);
   }
 
-  // Services the network until the other site streams; throws as SitePeer::poll does.
+  // Services the network until the other site streams (a room: until this site is in the
+  // room; the others come when they come); throws as the runtime's poll does.
   void connect(const SiteClock& clock) {
-    while (!peer_.streaming()) {
+    while (!ready()) {
       const double now = clock.now();
       peer_.poll(now);
-      if (!peer_.streaming()) {
+      if (!ready()) {
         peer_.wait(clock, now + 0.005);
       }
     }
@@ -136,16 +148,39 @@ class ScriptedSite {
   }
 
  private:
+  bool ready() const {
+    if constexpr (kRoom) {
+      return peer_.in_room();
+    } else {
+      return peer_.streaming();
+    }
+  }
+  // The direct session's watcher reads the session; a room measures each person itself.
+  static const SitePeer* peer_measured(const Peer& peer) {
+    if constexpr (kRoom) {
+      return nullptr;
+    } else {
+      return &peer;
+    }
+  }
+
   LocalTargets room(const TrackingFrame& user) const {
-    return LocalTargets{&a_.site.target_map, user.T_world_head.translation};
+    return LocalTargets{&a_.site.target_map, user.T_world_head.translation, {}};
   }
 
   // `due`: when the tick was scheduled, which is when the user's frame was sampled.
   void tick(std::uint64_t k, double now, double due) {
     const std::size_t i = std::min<std::size_t>(k, user_.frames.size() - 1);
-    const TrackingFrame& frame = user_.frames[i];
+    TrackingFrame frame = user_.frames[i];
+    // People the script names by site become whoever of that site is here now.
+    const std::vector<std::string>& names = a_.site.virtual_user->people;
+    resolve_script_people(frame, names, peer_.people(), !kRoom);
     measure_.set_now(now);
-    peer_.tick(frame, due, now, room(frame), &measure_);
+    if constexpr (kRoom) {
+      peer_.tick(frame, due, now, room(frame));
+    } else {
+      peer_.tick(frame, due, now, room(frame), &measure_);
+    }
     user_copy_.solve(frame);
     draw(frame, user_.deictic[i]);
     ++record_.ticks;
@@ -162,29 +197,70 @@ class ScriptedSite {
       user =
           with_ray(user, copied.T_world_head.translation, copied.index_tip, user_target->position);
     }
-    std::optional<AvatarPicture> remote;
-    if (const presence::RemoteAvatar* avatar = peer_.visible_avatar(); avatar != nullptr) {
-      remote = AvatarPicture{avatar->T_world_model(), avatar->model_pose()};
-      const TargetObject* target = a_.site.target_map.find(measure_.last_target());
+    remote_pictures_.clear();  // capacity: one per spot, reserved at construction
+    for (const presence::RemoteAvatar* avatar : visible_avatars()) {
+      AvatarPicture remote{avatar->T_world_model(), avatar->model_pose()};
+      const TargetObject* target = a_.site.target_map.find(avatar->frame().hand_target);
       if (target != nullptr && avatar->frame().progression[1] > kRayShownAbove) {
         remote =
-            with_ray(*remote, avatar->eye_midpoint(), avatar->index_fingertip(), target->position);
+            with_ray(remote, avatar->eye_midpoint(), avatar->index_fingertip(), target->position);
       }
+      remote_pictures_.push_back(remote);
     }
     const auto t0 = std::chrono::steady_clock::now();
-    view_->draw(user, remote ? &*remote : nullptr);
+    view_->draw(user, remote_pictures_);
     const std::chrono::duration<double, std::milli> took = std::chrono::steady_clock::now() - t0;
     push(record_.render_ms, took.count());
   }
 
+  std::span<const presence::RemoteAvatar* const> visible_avatars() {
+    if constexpr (kRoom) {
+      return peer_.people().visible();
+    } else {
+      direct_visible_ = peer_.visible_avatar();
+      return direct_visible_ != nullptr ? std::span(&direct_visible_, 1)
+                                        : std::span<const presence::RemoteAvatar* const>();
+    }
+  }
+
   SiteRecord finish(double end) {
-    const net::Session& session = peer_.network().session();
     record_.site = a_.site.site;
     record_.role = options_.host ? "host" : "join";
-    record_.peer_site = session.remote_hello() ? session.remote_hello()->site : "?";
     record_.seconds = end - start_;
-    record_.visible_ticks = peer_.stats().visible_ticks;
     record_.own_steps = user_.steps;
+    record_.sealed = !options_.passphrase.empty();
+    record_.video = view_ != nullptr ? "views.mp4" : "";
+    finish_network();
+    return record_;
+  }
+
+  // A room: every person met, measured by the room's RemotePeople; the network figures summed.
+  void finish_network() requires kRoom {
+    record_.people = peer_.people().records();
+    std::string sites;
+    for (const PersonRecord& p : record_.people) {
+      sites += (sites.empty() ? "" : ",") + p.site;
+      record_.visible_ticks = std::max(record_.visible_ticks, p.visible_ticks);
+    }
+    record_.peer_site = sites.empty() ? "?" : sites;
+    const net::RoomSession& room = peer_.session();
+    record_.net.tracking_sent = room.stats().tracking_sent;
+    record_.net.parts_not_sent = room.stats().parts_not_sent;
+    record_.net.send_failures = room.stats().send_failures;
+    record_.auth_failures = room.stats().auth_failures;
+    record_.rejected = room.drops().total;
+    for (const PersonRecord& p : record_.people) {
+      record_.jitter.played += p.frames_played;
+      record_.jitter.missed += p.frames_missed;
+    }
+    record_.net.tracking_received = peer_.stats().tracking_received;
+  }
+
+  // The direct session's one remote person, measured by this site's observer.
+  void finish_network() requires(!kRoom) {
+    const net::Session& session = peer_.network().session();
+    record_.peer_site = session.remote_hello() ? session.remote_hello()->site : "?";
+    record_.visible_ticks = peer_.stats().visible_ticks;
     const eval::DeicticObserver& observer = measure_.observer();
     record_.remote_completions.assign(observer.samples().begin(), observer.samples().end());
     record_.completions_dropped = observer.dropped();
@@ -193,10 +269,7 @@ class ScriptedSite {
     record_.auth_failures = session.status().auth_failures;
     record_.jitter = session.jitter();
     record_.rejected = session.drops().total;
-    record_.sealed = !options_.passphrase.empty();
     record_.traffic = peer_.network().link().traffic();
-    record_.video = view_ != nullptr ? "views.mp4" : "";
-    // The direct session's one remote person, measured by this site's observer.
     if (session.remote_hello() != nullptr) {
       PersonRecord person;
       person.site = record_.peer_site;
@@ -208,17 +281,18 @@ class ScriptedSite {
       person.completions_dropped = record_.completions_dropped;
       record_.people.push_back(std::move(person));
     }
-    return record_;
   }
 
   const SiteRunOptions& options_;
   const SiteAssets& a_;
   const ScriptedUser& user_;
-  SitePeer& peer_;
+  Peer& peer_;
   SiteView* view_;
   presence::CopiedAvatar user_copy_;  // the user's own view: their pose copied where they stand
   SiteRecord record_;
   RemoteMeasure measure_;
+  std::vector<AvatarPicture> remote_pictures_;  // this tick's visible remote avatars
+  const presence::RemoteAvatar* direct_visible_ = nullptr;
   std::uint64_t ticks_ = 0;
   double start_ = 0.0;
 };
@@ -236,12 +310,44 @@ SiteAssets load_site_assets(SiteConfig site, const std::filesystem::path& weight
           std::move(networks), user_origin,       remote_origin};
 }
 
+namespace {
+
+template <class Peer>
+SiteRecord run_loop(const SiteRunOptions& o, const SiteAssets& assets, const ScriptedUser& user,
+                    const SiteClock& clock, Peer& peer) {
+  std::optional<SiteView> view;
+  if (o.video) {
+    view.emplace(assets.site, assets.avatar, o.view_width, o.view_height, o.out_dir / "views.mp4");
+  }
+  ScriptedSite<Peer> site(o, assets, user, peer, view ? &*view : nullptr);
+  site.connect(clock);
+  const SiteRecord record = site.run(clock);
+  write_site_report(record, o.out_dir / "session.json");
+  print_site_summary(record, stdout);
+  std::printf("wrote %s\n", (o.out_dir / "session.json").string().c_str());
+  return record;
+}
+
+}  // namespace
+
 SiteRecord run_scripted_site(const SiteRunOptions& o, const SiteAssets& assets,
                              const ScriptedUser& user) {
   if (user.frames.empty() || user.deictic.size() != user.frames.size()) {
     throw Error(o.site.string() + ": the scripted user performed no frames");
   }
   const SiteClock clock;
+  if (!o.room.empty()) {
+    RoomPeerOptions room;
+    room.relay_host = o.address;
+    room.relay_port = o.port;
+    room.room = o.room;
+    room.passphrase = o.passphrase;
+    room.wait = o.wait;
+    room.drop_tracking = o.drop_tracking;
+    room.people.completions = kMaxCompletions;
+    RoomPeer peer(room, assets.site, user.body, assets.networks, assets.solver, clock.now());
+    return run_loop(o, assets, user, clock, peer);
+  }
   const SitePeerOptions peer_options{o.host ? net::Role::kHost : net::Role::kJoiner, o.address,
                                      o.port, o.passphrase, o.wait};
   SitePeer peer(peer_options, assets.site, user.body, assets.networks, assets.solver, clock.now());
@@ -249,17 +355,7 @@ SiteRecord run_scripted_site(const SiteRunOptions& o, const SiteAssets& assets,
     std::printf("port %u\n", static_cast<unsigned>(peer.port()));
     std::fflush(stdout);
   }
-  std::optional<SiteView> view;
-  if (o.video) {
-    view.emplace(assets.site, assets.avatar, o.view_width, o.view_height, o.out_dir / "views.mp4");
-  }
-  ScriptedSite site(o, assets, user, peer, view ? &*view : nullptr);
-  site.connect(clock);
-  const SiteRecord record = site.run(clock);
-  write_site_report(record, o.out_dir / "session.json");
-  print_site_summary(record, stdout);
-  std::printf("wrote %s\n", (o.out_dir / "session.json").string().c_str());
-  return record;
+  return run_loop(o, assets, user, clock, peer);
 }
 
 }  // namespace deixis::site

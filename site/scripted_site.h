@@ -32,8 +32,11 @@ struct SiteRunOptions {
   std::string address = "127.0.0.1";  // host: where to listen (--bind); join: the host
   std::uint16_t port = 7350;          // host: 0 picks a free one (printed as "port N")
   std::string passphrase;
-  double seconds = 0.0;  // 0: as long as the virtual user's script
-  double wait = 30.0;    // s to wait for the other site
+  // A room on a relay (address and port are then the relay's): many people, not one host.
+  std::string room;
+  double drop_tracking = 0.0;  // rehearsing a bad link: this share of outgoing frames not sent
+  double seconds = 0.0;        // 0: as long as the virtual user's script
+  double wait = 30.0;          // s to wait for the other site
   std::filesystem::path out_dir;
   std::filesystem::path weights_dir;  // holds right/ and left/ with the MoE weights
   int view_width = 640;

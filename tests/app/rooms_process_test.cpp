@@ -1,0 +1,154 @@
+// Rooms of several people with real processes (docs/relay.md, docs/rooms-protocol.md): a
+// `deixis relay` and three `deixis join --room` sites on 127.0.0.1, each in its own room (sites
+// a, b and c), each showing the other two people as avatars that follow them. Every wait is
+// bounded (deixis_child.h).
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "app/deixis_child.h"
+
+namespace deixis::app {
+namespace {
+
+using json = nlohmann::json;
+
+// A site that joins room `room` on the relay at `port`, for `seconds`, writing into `out`.
+std::vector<std::string> join_args(int port, const std::string& room, const char* site_file,
+                                   const std::filesystem::path& out, double seconds) {
+  return {"join",
+          "--connect",
+          "127.0.0.1:" + std::to_string(port),
+          "--room",
+          room,
+          "--site",
+          site(site_file).string(),
+          "--no-video",
+          "--seconds",
+          std::to_string(seconds),
+          "-o",
+          out.string(),
+          "--weights-dir",
+          weights_dir(),
+          "--wait",
+          "20"};
+}
+
+json session_of(const std::filesystem::path& out) {
+  std::ifstream in(out / "session.json");
+  EXPECT_TRUE(in) << (out / "session.json");
+  return in ? json::parse(in) : json();
+}
+
+// The people a session.json lists, by site name.
+std::map<std::string, json> people_of(const json& session) {
+  std::map<std::string, json> people;
+  if (session.contains("people")) {
+    for (const json& p : session["people"]) {
+      people[p["site"].get<std::string>()] = p;
+    }
+  }
+  return people;
+}
+
+// The passphrase reaches a site through DEIXIS_PASSPHRASE (never its command line); each child
+// inherits the value set when it starts.
+void set_passphrase(const char* passphrase) {
+  if (passphrase == nullptr) {
+    unsetenv("DEIXIS_PASSPHRASE");
+  } else {
+    setenv("DEIXIS_PASSPHRASE", passphrase, 1);
+  }
+}
+
+// Every site ends well, then the relay, on SIGTERM.
+void finish(Deixis& relay, std::initializer_list<Deixis*> sites) {
+  for (Deixis* site : sites) {
+    EXPECT_EQ(site->wait(), 0) << site->err();
+  }
+  set_passphrase(nullptr);
+  relay.send_signal(SIGTERM);
+  EXPECT_EQ(relay.wait(), 0) << relay.err();
+}
+
+// Three rooms meet; site c's link loses a fifth of its tracking on purpose. Everyone sees the two
+// others, frames flow from each, and only c's avatar misses frames.
+TEST(Rooms, ThreeSitesSeeEachOtherAndOnePersonsLossStaysTheirs) {
+  testing::ScratchDir dir;
+  set_passphrase("three rooms, one meeting");
+  Deixis relay({"relay", "--port", "0"});
+  const int port = relay.port();
+  ASSERT_GT(port, 0) << relay.err();
+  Deixis a(join_args(port, "meeting", "a.json", dir.path() / "a", 8.0));
+  Deixis b(join_args(port, "meeting", "b.json", dir.path() / "b", 8.0));
+  Deixis c(join_args(port, "meeting", "c.json", dir.path() / "c", 8.0) +
+           std::vector<std::string>{"--drop-tracking", "0.2"});
+  finish(relay, {&a, &b, &c});
+
+  const std::map<std::string, std::vector<std::string>> others = {
+      {"a", {"B", "C"}}, {"b", {"A", "C"}}, {"c", {"A", "B"}}};
+  for (const auto& [name, expected] : others) {
+    SCOPED_TRACE("site " + name);
+    const json session = session_of(dir.path() / name);
+    const std::map<std::string, json> people = people_of(session);
+    ASSERT_EQ(people.size(), 2u) << session.dump(2);
+    for (const std::string& other : expected) {
+      ASSERT_TRUE(people.count(other)) << other << " missing: " << session.dump(2);
+      const json& p = people.at(other);
+      // Sites start a second or two apart and run 8 s each: at least 4 s of frames overlap.
+      EXPECT_GT(p["frames_played"].get<long>(), 100) << p.dump();
+      EXPECT_GT(p["visible_ticks"].get<long>(), 100) << p.dump();
+    }
+  }
+  // c drops a fifth of its frames before they leave: a and b miss c's, not each other's.
+  for (const auto& [name, other] : {std::pair{"a", "B"}, std::pair{"b", "A"}}) {
+    const std::map<std::string, json> people = people_of(session_of(dir.path() / name));
+    const auto missed_share = [&](const std::string& who) {
+      const json& p = people.at(who);
+      const double played = p["frames_played"].get<double>();
+      const double missed = p["frames_missed"].get<double>();
+      return missed / std::max(1.0, played + missed);
+    };
+    EXPECT_GT(missed_share("C"), 0.10) << name;
+    EXPECT_LT(missed_share(other), 0.05) << name;
+  }
+}
+
+// A sealed room: a member with another passphrase sees no one and is seen by no one; a fourth
+// member finds the room full (--max-people 3) and is told so.
+TEST(Rooms, AWrongPassphraseSeesNoOneAndAFullRoomIsRefused) {
+  testing::ScratchDir dir;
+  Deixis relay({"relay", "--port", "0", "--max-people", "3"});
+  const int port = relay.port();
+  ASSERT_GT(port, 0) << relay.err();
+  set_passphrase("the right one");
+  Deixis a(join_args(port, "sealed", "a.json", dir.path() / "a", 5.0));
+  Deixis b(join_args(port, "sealed", "b.json", dir.path() / "b", 5.0));
+  set_passphrase("a wrong one");
+  Deixis c(join_args(port, "sealed", "c.json", dir.path() / "c", 5.0));
+  // Once three are in, a fourth is refused.
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  set_passphrase("the right one");
+  Deixis d(join_args(port, "sealed", "a.json", dir.path() / "d", 5.0));
+  EXPECT_EQ(d.wait(), 1) << d.err();
+  EXPECT_NE(d.err().find("room is full"), std::string::npos) << d.err();
+  finish(relay, {&a, &b, &c});
+
+  const auto a_people = people_of(session_of(dir.path() / "a"));
+  const auto b_people = people_of(session_of(dir.path() / "b"));
+  const auto c_people = people_of(session_of(dir.path() / "c"));
+  EXPECT_EQ(a_people.size(), 1u);
+  EXPECT_TRUE(a_people.count("B"));
+  EXPECT_EQ(b_people.size(), 1u);
+  EXPECT_TRUE(b_people.count("A"));
+  EXPECT_TRUE(c_people.empty()) << "the wrong passphrase saw someone";
+}
+
+}  // namespace
+}  // namespace deixis::app
