@@ -208,6 +208,25 @@ class PeopleAsTargets : public ::testing::Test {
 Performer* PeopleAsTargets::b_ = nullptr;
 Performer* PeopleAsTargets::c_ = nullptr;
 
+// In their own room B, the scripted user turned to the spots the script's people are expected on
+// (A on B's first spot, C on its second), as to objects, and their frames name those people.
+TEST_F(PeopleAsTargets, TheScriptedUserTurnsToThePeoplesSpotsInTheirOwnRoom) {
+  const SiteConfig& b = b_->config;
+  const TrackingFrame& look = b_->frame(b_->completion(0));
+  const Vec3 a_head = expected_person_head(b, shared().solver, 0);
+  EXPECT_EQ(look.head_target, person_target(1));
+  EXPECT_TRUE(look.head_target_position.isApprox(a_head));
+  EXPECT_LT(angle_deg(look.gaze, a_head - look.T_world_head.translation), 3.0f);
+  const TrackingFrame& point = b_->frame(b_->completion(1));
+  const Vec3 c_head = expected_person_head(b, shared().solver, 1);
+  const Vec3& tip = point.index_tip[index(b_->body().deictic_hand)];
+  EXPECT_EQ(point.hand_target, person_target(3));
+  EXPECT_LT(angle_deg(point.gaze, c_head - point.T_world_head.translation), 3.0f);
+  EXPECT_LT(
+      angle_deg(tip - point.T_world_head.translation, c_head - point.T_world_head.translation),
+      6.0f);
+}
+
 TEST_F(PeopleAsTargets, BPointingAtCPointsBsAvatarAtCsAvatarInRoomA) {
   const std::size_t complete = b_->completion(1);
   ASSERT_EQ(b_->frame(complete).hand_target, person_target(3));
