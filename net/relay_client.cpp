@@ -130,6 +130,9 @@ void RelayClient::poll(double now, RelayListener& listener, std::uint32_t wait_m
     }
     return;
   }
+  if (!entering_ && !in_room_) {
+    last_heard_ = now;  // the relay waits for our enter (3 s at most) and sends nothing meanwhile
+  }
   if (now - last_heard_ > kRelaySilenceTimeout) {
     return lost(now, listener, "the relay fell silent");
   }

@@ -128,9 +128,10 @@ class RelayClient {
   // Handles at most kMaxEventsPerPoll link events and the timers; waits at most `wait_ms` for
   // the first event.
   void poll(double now, RelayListener& listener, std::uint32_t wait_ms = 0);
-  // After on_relay_ready: enter the room. room_params is kept by the relay as the room's if the
-  // room is empty (the first member's), else the room's own are returned in on_entered. Sizes
-  // above kRoomParamsMax / kAnnounceMax are not sent (false).
+  // After on_relay_ready: enter the room (within 3 s: the relay lets go of connections that do
+  // not enter; the client then reconnects and says on_relay_ready again). room_params is kept by
+  // the relay as the room's if the room is empty (the first member's), else the room's own are
+  // returned in on_entered. Sizes above kRoomParamsMax / kAnnounceMax are not sent (false).
   bool enter(std::span<const std::uint8_t> room_params, std::span<const std::uint8_t> announce);
   // kAllMembers: all others. False when not in a room, the payload is empty or above
   // kRelayPayloadMax, or the link refuses it. Tracking is flushed at once.
