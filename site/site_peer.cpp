@@ -24,7 +24,7 @@ SitePeer::SitePeer(const SitePeerOptions& options, const SiteConfig& site,
                    const ik::AvatarSolver& solver, double now)
     : net_(SiteSessionOptions{options.role, options.address, options.port, options.passphrase},
            hello_of(site, user), site.target_map),
-      people_(site, networks, solver) {
+      people_(site, networks, solver, options.people) {
   net_.start(now, options.wait);
 }
 
@@ -62,6 +62,9 @@ void SitePeer::tick(const TrackingFrame& user, double sampled, double now, const
   if (!live_ && watcher != nullptr) {
     watcher->on_no_stream();
   }
+  if (!live_) {
+    people_.interrupt(kDirectPerson);  // a hold being measured ends with the stream
+  }
   people_.set_live(kDirectPerson, live_);
   people_.end_tick();
   stats_.visible_ticks += visible_avatar() != nullptr ? 1 : 0;
@@ -78,7 +81,9 @@ void SitePeer::play_due_frames(double now, const LocalTargets& room, RemotePerso
     }
     const bool missed = p.kind == net::PlayoutKind::kMissed;
     const auto t0 = std::chrono::steady_clock::now();
-    people_.play(PersonFrame{kDirectPerson, missed ? nullptr : p.frame, p.sequence}, room);
+    people_.play(PersonFrame{kDirectPerson, missed ? nullptr : p.frame, p.sequence,
+                             net_.session().remote_target_map()},
+                 room, now);
     const std::chrono::duration<double, std::milli> took = std::chrono::steady_clock::now() - t0;
     stats_.played += missed ? 0 : 1;
     stats_.missed += missed ? 1 : 0;

@@ -26,6 +26,9 @@ struct SitePeerOptions {
   std::uint16_t port = 7350;          // host: 0 picks a free one
   std::string passphrase;
   double wait = 30.0;  // s for the other site to come
+  // What the remote person's record measures (RemotePeople::records(): completion states and
+  // gazes); by default nothing (a driver that measures through a RemotePersonWatcher).
+  RemotePeopleOptions people{};
 };
 
 struct SitePeerStats {

@@ -127,8 +127,9 @@ TEST_P(SitePeerHotPath, StreamingTicksAllocateNothing) {
   const Site& b = x.b;
   const std::string passphrase(GetParam());
   double now = 0.0;
-  SitePeer host(SitePeerOptions{net::Role::kHost, "127.0.0.1", 0, passphrase, 30.0}, a.config,
-                a.performance.sequence.calibration, x.networks, a.solver, now);
+  // The host measures its remote person as it plays them (completion states and gazes).
+  SitePeer host(SitePeerOptions{net::Role::kHost, "127.0.0.1", 0, passphrase, 30.0, {256}},
+                a.config, a.performance.sequence.calibration, x.networks, a.solver, now);
   SitePeer joiner(SitePeerOptions{net::Role::kJoiner, "127.0.0.1", host.port(), passphrase, 30.0},
                   b.config, b.performance.sequence.calibration, x.networks, b.solver, now);
   std::size_t tick = 0;
@@ -185,6 +186,13 @@ TEST_P(SitePeerHotPath, StreamingTicksAllocateNothing) {
               static_cast<std::uint64_t>(kCountedTicks));
   }
   EXPECT_EQ(host.stats().peer_site, "B");
+  // The host's record of B: every played frame, shown on every counted tick, B's gazes measured.
+  const std::vector<PersonRecord> people = host.people().records();
+  ASSERT_EQ(people.size(), 1u);
+  EXPECT_EQ(people[0].site, "B");
+  EXPECT_EQ(people[0].frames_played, host.stats().played);
+  EXPECT_GE(people[0].visible_ticks, static_cast<std::uint64_t>(kCountedTicks));
+  EXPECT_FALSE(people[0].gazes.empty());
   EXPECT_EQ(joiner.stats().peer_site, "A");
   joiner.close(now);
   host.close(now);
