@@ -150,5 +150,19 @@ TEST(Rooms, AWrongPassphraseSeesNoOneAndAFullRoomIsRefused) {
   EXPECT_TRUE(c_people.empty()) << "the wrong passphrase saw someone";
 }
 
+// An open room through a relay beyond this machine: refused (exit 2) unless --open says so; a
+// room name the wire cannot carry, or --room flags without a room, are bad flags too.
+TEST(Rooms, AnOpenRoomBeyondLoopbackNeedsOpenAndBadRoomFlagsExit2) {
+  set_passphrase(nullptr);
+  const std::string a = site("a.json").string();
+  expect_refused({
+      {{"join", "--connect", "192.0.2.1:7351", "--room", "R", "--site", a}, "--open"},
+      {{"join", "--connect", "127.0.0.1:7351", "--room", "", "--site", a}, "--room"},
+      {{"join", "--connect", "127.0.0.1:7351", "--drop-tracking", "0.2", "--site", a}, "--room"},
+      {{"join", "--connect", "127.0.0.1:7351", "--room", "R", "--drop-tracking", "2", "--site", a},
+       "--drop-tracking"},
+  });
+}
+
 }  // namespace
 }  // namespace deixis::app
