@@ -38,8 +38,9 @@
 namespace deixis::site {
 
 struct RemotePeopleOptions {
-  // Per person, how many completion states (eval/deictic_observer.h) are kept to measure their
-  // pointing (he_deg, ve_deg); 0 measures nothing (a driver that measures on its own).
+  // Per person, how many completion states (eval/deictic_observer.h: pointing, he_deg/ve_deg)
+  // and gaze holds (PersonRecord::gazes) are kept; 0 measures nothing (a driver that measures on
+  // its own).
   std::size_t completions = 0;
   bool touch_contact = true;
 };
