@@ -464,6 +464,10 @@ void RelayServer::forward(std::size_t c, Channel channel, const RelayForward& m,
   const std::size_t n = encode_forwarded(conn.id, m.payload, tx_);
   const std::span<const std::byte> out = std::span(tx_).first(n);
   bool delivered = false;
+  // Members that could not take a reliable copy (their ENet queue is full): losing a reliable
+  // message silently would leave their room state wrong, so they are let go and come back fresh.
+  std::array<std::size_t, kMaxRoomPeople> behind{};
+  std::size_t behind_count = 0;
   for (std::size_t i = 0; i < room.count; ++i) {
     const Member& to = room.members[i];
     if (to.conn == c || (m.to != kAllMembers && to.id != m.to)) {
@@ -474,10 +478,20 @@ void RelayServer::forward(std::size_t c, Channel channel, const RelayForward& m,
       ++stats_.forwards_out;
       stats_.bytes_out += m.payload.size();
       conns_[to.conn].last_sent = now;
+    } else if (channel == Channel::kReliable) {
+      behind[behind_count++] = to.conn;
     }
   }
   if (!delivered && m.to != kAllMembers) {
     ++stats_.to_absent;
+  }
+  for (std::size_t i = 0; i < behind_count; ++i) {
+    ++stats_.members_behind;
+    if (warn_budget_.take(now)) {
+      log().warn("relay: letting go of {}: it cannot keep up with its room's reliable messages",
+                 link_.peer_name(conns_[behind[i]].peer));
+    }
+    release(behind[i], kLeavingCode, now, "could not keep up");
   }
 }
 

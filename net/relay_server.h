@@ -17,6 +17,8 @@
 //     off with a logged reason and told so (kFlooding);
 //   - rooms are capped in size (max_people: kRoomFull, final for the client) and in number
 //     (max_rooms: kRelayFull); a room is forgotten when its last member leaves;
+//   - a member whose link refuses a reliable copy (its queue is full: it cannot keep up) is let go,
+//     so that it comes back with a fresh view of the room rather than miss a message;
 //   - a keepalive goes to each member that has heard nothing for keepalive_interval, so clients
 //     notice a dead relay quickly; a member silent for member_timeout is let go.
 // Drops are counted per reason and logged at a limited rate (drop_log.h); so are joins and leaves.
@@ -80,8 +82,9 @@ struct RelayServerStats {
   std::uint64_t forwards_out = 0;  // forwarded packets handed to the link
   std::uint64_t bytes_in = 0;      // payload bytes
   std::uint64_t bytes_out = 0;
-  std::uint64_t to_absent = 0;      // forwards to an id not in the room (it may just have left)
-  std::uint64_t send_failures = 0;  // the link refused a packet
+  std::uint64_t to_absent = 0;       // forwards to an id not in the room (it may just have left)
+  std::uint64_t send_failures = 0;   // the link refused a packet
+  std::uint64_t members_behind = 0;  // let go: a reliable copy could not be queued for them
   std::uint64_t keepalives_sent = 0;
   std::uint64_t service_bounded = 0;  // service() calls that left events for the next one
 };

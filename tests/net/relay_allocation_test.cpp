@@ -22,7 +22,10 @@ class FakeLink : public Link {
 
   PeerId connect() override { return kNoPeer; }
   void disconnect(PeerId, std::uint32_t) override { ++disconnects; }
-  bool send(PeerId, Channel channel, std::span<const std::byte> packet) override {
+  bool send(PeerId peer, Channel channel, std::span<const std::byte> packet) override {
+    if (peer == full_peer && channel == Channel::kReliable) {
+      return false;  // its queue is full
+    }
     ++sent[static_cast<std::size_t>(channel)];
     sent_bytes += packet.size();
     return true;
@@ -52,6 +55,7 @@ class FakeLink : public Link {
     push(LinkEvent::Kind::kReceived, peer, channel, bytes);
   }
 
+  PeerId full_peer = kNoPeer;  // a peer whose reliable sends are refused
   std::array<std::uint64_t, 2> sent{};
   std::uint64_t sent_bytes = 0;
   std::uint64_t disconnects = 0;
@@ -77,26 +81,31 @@ class FakeLink : public Link {
   std::size_t tail_ = 0;
 };
 
+// Peers 1 … people connect and enter the room `name`.
+void fill_room(FakeLink& link, RelayServer& relay, PeerId people, const char* name) {
+  for (PeerId p = 1; p <= people; ++p) {
+    link.push_connected(p);
+  }
+  relay.service(0.0);
+  const std::array<std::uint8_t, 16> announce{};
+  RelayEnter enter;
+  enter.room = room_token(name);
+  enter.announce = announce;
+  std::array<std::byte, FakeLink::kBytes> enter_bytes{};
+  const std::size_t enter_size = encode(enter, enter_bytes);
+  for (PeerId p = 1; p <= people; ++p) {
+    link.push_packet(p, Channel::kReliable, std::span(enter_bytes).first(enter_size));
+  }
+  relay.service(0.0);
+}
+
 TEST(RelayHotPath, ForwardingInAStableRoomAllocatesNothing) {
   FakeLink link;
   RelayServer relay(link, RelayServerConfig{});
   constexpr PeerId kPeople = 8;
   double now = 0.0;
-  for (PeerId p = 1; p <= kPeople; ++p) {
-    link.push_connected(p);
-  }
-  relay.service(now);
-  const std::array<std::uint8_t, 16> announce{};
-  RelayEnter enter;
-  enter.room = room_token("allocation");
-  enter.announce = announce;
-  std::array<std::byte, FakeLink::kBytes> enter_bytes{};
-  const std::size_t enter_size = encode(enter, enter_bytes);
-  for (PeerId p = 1; p <= kPeople; ++p) {
-    link.push_packet(p, Channel::kReliable, std::span(enter_bytes).first(enter_size));
-  }
-  relay.service(now);
-  ASSERT_EQ(relay.members_in(enter.room), kPeople);
+  fill_room(link, relay, kPeople, "allocation");
+  ASSERT_EQ(relay.members_in(room_token("allocation")), kPeople);
 
   std::array<std::byte, 100> payload{};  // a sealed tracking packet is about this size
   std::array<std::byte, kRelayForwardHeaderBytes + 100> to_all{};
@@ -130,6 +139,30 @@ TEST(RelayHotPath, ForwardingInAStableRoomAllocatesNothing) {
   EXPECT_EQ(relay.stats().floods_cut, 0u);
   EXPECT_EQ(link.disconnects, 0u);
   EXPECT_GT(relay.stats().keepalives_sent + relay.stats().forwards_out, 0u);
+}
+
+// Not a hot-path test, but it needs this link: a member whose reliable queue is full when a
+// reliable copy is due is let go (and the others told), rather than silently miss a message.
+TEST(RelayHotPath, AMemberThatCannotTakeAReliableCopyIsLetGo) {
+  FakeLink link;
+  RelayServer relay(link, RelayServerConfig{});
+  fill_room(link, relay, 3, "behind");
+  ASSERT_EQ(relay.members_in(room_token("behind")), 3u);
+  link.full_peer = 2;
+  std::array<std::byte, 8> payload{};
+  std::array<std::byte, kRelayForwardHeaderBytes + 8> to_all{};
+  encode_forward(kAllMembers, payload, to_all);
+  link.push_packet(1, Channel::kTracking, to_all);
+  relay.service(0.1);
+  EXPECT_EQ(relay.members_in(room_token("behind")), 3u) << "a lost tracking copy is no reason";
+  const std::uint64_t reliable_before = link.sent[0];
+  link.push_packet(1, Channel::kReliable, to_all);
+  relay.service(0.2);
+  EXPECT_EQ(relay.members_in(room_token("behind")), 2u);
+  EXPECT_EQ(relay.stats().members_behind, 1u);
+  EXPECT_EQ(link.disconnects, 1u);
+  // Peer 3 got its copy and the news that member 2 left.
+  EXPECT_EQ(link.sent[0] - reliable_before, 3u) << "one copy to 3, and member left to 1 and 3";
 }
 
 }  // namespace
