@@ -422,6 +422,7 @@ void add_demo(CLI::App& program, const Invocation&, std::vector<Runner>& runners
   o.weights_dir = default_weights_dir();
   o.site_a = demo_site("a.json");
   o.site_b = demo_site("b.json");
+  o.site_c = demo_site("c.json");
   CLI::App* cmd = program.add_subcommand(
       "demo",
       "Two sites for real: starts `deixis host` (site A) and `deixis join` (site B) as two "
@@ -432,6 +433,13 @@ void add_demo(CLI::App& program, const Invocation&, std::vector<Runner>& runners
       ->check(CLI::Range(1.0, 600.0));
   cmd->add_option("--site-a", o.site_a, "Site A (the host)")->check(CLI::ExistingFile);
   cmd->add_option("--site-b", o.site_b, "Site B (joins A)")->check(CLI::ExistingFile);
+  cmd->add_option("--site-c", o.site_c, "Site C (with --people 3)")->check(CLI::ExistingFile);
+  cmd->add_option("--people", o.people,
+                  "2: site A hosts and B joins; 3: `deixis relay` and sites A, B and C join one "
+                  "room, and demo.mp4 has a row per person (their user, then their avatar in the "
+                  "two other rooms)")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 3));
   cmd->add_option("--weights-dir", o.weights_dir, "As for host and join")
       ->check(CLI::ExistingDirectory);
   add_passphrase_flags(cmd, demo->pass, false);

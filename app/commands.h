@@ -85,8 +85,10 @@ int run_site(const site::SiteRunOptions& options);
 // the side-by-side video, a contact sheet and summary.json in `out_dir`.
 struct DemoOptions {
   std::filesystem::path out_dir = "out/demo";
+  int people = 2;  // 2: host and join; 3: a relay and three sites in one room
   std::filesystem::path site_a;
   std::filesystem::path site_b;
+  std::filesystem::path site_c;  // with people = 3
   std::filesystem::path weights_dir;
   double seconds = 0.0;  // 0: as long as the longer script
   double timeout = 120.0;

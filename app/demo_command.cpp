@@ -2,6 +2,10 @@
 // `deixis host` with site A on a port the system picks, then `deixis join` with site B — waits
 // for both, and puts their outputs together: demo.mp4 (top: A's user | A's avatar in room B;
 // bottom: B's user | B's avatar in room A), contact_sheet.png and summary.json.
+//
+// `deixis demo --people 3`: a room of three. This process starts `deixis relay` and three
+// `deixis join --room` sites (A, B, C), and demo.mp4 has a row per person: their user, then the
+// other two rooms, where their avatar stands beside the third person's.
 
 #include <unistd.h>
 
@@ -9,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -52,16 +57,20 @@ std::string failure(const ChildProcess& child) {
          " (its messages are above)";
 }
 
-// Waits for both sites; a failure of either ends the other.
-void wait_for_sites(ChildProcess& host, ChildProcess& join, double timeout) {
+// Waits for every site; a failure of one ends the others.
+void wait_for_sites(std::initializer_list<ChildProcess*> sites, double timeout) {
   const double deadline = ChildProcess::now() + timeout;
+  const auto stop_all = [&] {
+    for (ChildProcess* c : sites) {
+      c->terminate();
+    }
+  };
   while (true) {
     bool all_done = true;
-    for (ChildProcess* c : {&host, &join}) {
+    for (ChildProcess* c : sites) {
       const bool done = c->poll();
       if (done && c->exit_code() != 0) {
-        host.terminate();
-        join.terminate();
+        stop_all();
         throw Error(failure(*c));
       }
       all_done = all_done && done;
@@ -70,10 +79,11 @@ void wait_for_sites(ChildProcess& host, ChildProcess& join, double timeout) {
       return;
     }
     if (ChildProcess::now() > deadline) {
-      std::string late = host.poll() ? "" : "site A (host) ";
-      late += join.poll() ? "" : "site B (join) ";
-      host.terminate();
-      join.terminate();
+      std::string late;
+      for (ChildProcess* c : sites) {
+        late += c->poll() ? "" : c->name() + " ";
+      }
+      stop_all();
       throw Error(late + "did not finish within " + std::to_string(timeout) + " s (--timeout)");
     }
     usleep(20'000);
@@ -112,7 +122,30 @@ void run_sites(const DemoOptions& o, const fs::path& self) {
     a.insert(a.end(), rest.begin(), rest.end());
     return a;
   }());
-  wait_for_sites(host, join, o.timeout);
+  wait_for_sites({&host, &join}, o.timeout);
+}
+
+// A relay and three sites in the room "demo"; the relay ends with the sites.
+void run_room_sites(const DemoOptions& o, const fs::path& self) {
+  pass_passphrase(o);
+  ChildProcess relay("the relay", self.string(), {"relay", "--port", "0", "--bind", "127.0.0.1"});
+  const std::optional<std::string> port =
+      relay.line_starting("port ", ChildProcess::now() + kListenTimeout);
+  if (!port) {
+    throw Error(relay.poll() ? failure(relay) : "the relay did not start listening");
+  }
+  const auto site_process = [&](const char* label, const fs::path& site, const char* out) {
+    std::vector<std::string> a = {"join", "--connect", "127.0.0.1:" + port->substr(5), "--room",
+                                  "demo"};
+    const auto rest = site_args(o, site, o.out_dir / out);
+    a.insert(a.end(), rest.begin(), rest.end());
+    return std::make_unique<ChildProcess>(label, self.string(), a);
+  };
+  const auto a = site_process("site A", o.site_a, "A");
+  const auto b = site_process("site B", o.site_b, "B");
+  const auto c = site_process("site C", o.site_c, "C");
+  wait_for_sites({a.get(), b.get(), c.get()}, o.timeout);
+  relay.terminate();
 }
 
 void ffmpeg(const std::vector<std::string>& args, const std::string& what) {
@@ -135,6 +168,23 @@ void compose_video(const fs::path& out) {
   ffmpeg({"-i", (out / "A/views.mp4").string(), "-i", (out / "B/views.mp4").string(),
           "-filter_complex", filter, "-map", "[v]", "-shortest", "-c:v", "libx264", "-preset",
           "veryfast", "-crf", "23", (out / "demo.mp4").string()},
+         "demo.mp4");
+}
+
+// Each site's video is [its user | its room with the other two avatars]; a row per person: their
+// user, then the two other rooms (where their avatar stands).
+void compose_room_video(const fs::path& out) {
+  // Per input: its user (left half) once, its room (right half) twice.
+  const std::string filter =
+      "[0:v]split=3[a0][a1][a2];[1:v]split=3[b0][b1][b2];[2:v]split=3[c0][c1][c2];"
+      "[a0]crop=iw/2:ih:0:0[au];[a1]crop=iw/2:ih:iw/2:0[ar1];[a2]crop=iw/2:ih:iw/2:0[ar2];"
+      "[b0]crop=iw/2:ih:0:0[bu];[b1]crop=iw/2:ih:iw/2:0[br1];[b2]crop=iw/2:ih:iw/2:0[br2];"
+      "[c0]crop=iw/2:ih:0:0[cu];[c1]crop=iw/2:ih:iw/2:0[cr1];[c2]crop=iw/2:ih:iw/2:0[cr2];"
+      "[au][br1][cr1]hstack=inputs=3[rowa];[bu][ar1][cr2]hstack=inputs=3[rowb];"
+      "[cu][ar2][br2]hstack=inputs=3[rowc];[rowa][rowb][rowc]vstack=inputs=3,format=yuv420p[v]";
+  ffmpeg({"-i", (out / "A/views.mp4").string(), "-i", (out / "B/views.mp4").string(), "-i",
+          (out / "C/views.mp4").string(), "-filter_complex", filter, "-map", "[v]", "-shortest",
+          "-c:v", "libx264", "-preset", "veryfast", "-crf", "23", (out / "demo.mp4").string()},
          "demo.mp4");
 }
 
@@ -217,17 +267,81 @@ void print_summary(const json& a, const json& b, double wall) {
   });
 }
 
+// Per pair: how each remote person's avatar pointed and looked in each room, against their pose
+// copied onto the avatar (copy-paste).
+void print_room_summary(const std::vector<std::pair<std::string, json>>& sites, double wall) {
+  std::printf(
+      "\nDeixis demo: three people in one room through a relay on 127.0.0.1 (wall time "
+      "%.1f s)\n",
+      wall);
+  std::printf("  %-10s %-8s %7s %7s %10s %12s %8s %12s\n", "in room", "person", "frames", "points",
+              "HE / VE", "copy HE / VE", "looks", "gaze error");
+  for (const auto& [room, session] : sites) {
+    for (const json& p : session.value("people", json::array())) {
+      std::printf("  %-10s %-8s %7ld %7ld %10s %12s %8ld %12s\n", room.c_str(),
+                  p.value("site", "?").c_str(), p.value("frames_played", 0L),
+                  p.value("pointing_count", 0L),
+                  (figure(p["he_deg"], 1) + " / " + figure(p["ve_deg"], 1)).c_str(),
+                  (figure(p["copy_he_deg"], 1) + " / " + figure(p["copy_ve_deg"], 1)).c_str(),
+                  p.value("gaze_count", 0L), (figure(p["gaze_deg"], 1) + "°").c_str());
+    }
+  }
+}
+
+int run_room_demo(const DemoOptions& o, double start) {
+  std::printf(
+      "deixis demo: three sites (A, B, C) in one room through a relay on 127.0.0.1; "
+      "outputs in %s\n",
+      o.out_dir.string().c_str());
+  std::fflush(stdout);
+  run_room_sites(o, own_executable());
+  std::vector<std::pair<std::string, json>> sites;
+  double seconds = 0.0;
+  for (const char* s : {"A", "B", "C"}) {
+    sites.emplace_back(s, read_json(o.out_dir / s / "session.json"));
+    seconds = std::max(seconds, sites.back().second["seconds"].get<double>());
+  }
+  compose_room_video(o.out_dir);
+  contact_sheet(o.out_dir, seconds);
+  const double wall = ChildProcess::now() - start;
+  json by_site = json::object();
+  for (const auto& [name, session] : sites) {
+    by_site[name] = session;
+  }
+  const json summary = {
+      {"format", "deixis-demo"}, {"version", 1},        {"people", 3},
+      {"wall_seconds", wall},    {"video", "demo.mp4"}, {"contact_sheet", "contact_sheet.png"},
+      {"sites", by_site}};
+  std::ofstream file(o.out_dir / "summary.json");
+  file << summary.dump(2) << '\n';
+  if (!file) {
+    throw Error((o.out_dir / "summary.json").string() + ": cannot write");
+  }
+  print_room_summary(sites, wall);
+  return 0;
+}
+
 }  // namespace
 
 int run_demo(const DemoOptions& o) {
   const double start = ChildProcess::now();
   try {
     std::error_code ec;
-    for (const char* sub : {"A", "B"}) {
+    for (const char* sub : {"A", "B", "C"}) {
+      if (sub[0] == 'C' && o.people < 3) {
+        break;
+      }
       fs::create_directories(o.out_dir / sub, ec);
       if (ec) {
         throw Error((o.out_dir / sub).string() + ": cannot create: " + ec.message());
       }
+    }
+    if (o.people == 3) {
+      const int code = run_room_demo(o, start);
+      std::printf("\nwrote %s, %s and %s\n", (o.out_dir / "demo.mp4").string().c_str(),
+                  (o.out_dir / "contact_sheet.png").string().c_str(),
+                  (o.out_dir / "summary.json").string().c_str());
+      return code;
     }
     std::printf("deixis demo: site A hosts, site B joins on 127.0.0.1; outputs in %s\n",
                 o.out_dir.string().c_str());

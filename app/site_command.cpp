@@ -9,11 +9,13 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/commands.h"
 #include "capture/subject.h"
 #include "capture/virtual_user.h"
 #include "core/error.h"
+#include "site/remote_people.h"
 #include "site/scripted_site.h"
 
 namespace deixis::app {
@@ -26,11 +28,18 @@ namespace fs = std::filesystem;
 // (target 0) where this room shows it; repeated to cover `seconds` (0: once). The site has one
 // (run_site checks).
 site::ScriptedUser perform_virtual_user(const site::SiteRunOptions& o, const site::SiteAssets& a) {
+  const site::VirtualUser& user = *a.site.virtual_user;
+  // The k-th person the script names is aimed at where the avatar on spot k stands; at run time
+  // the target becomes whoever of that site is in the room (site/remote_people.h).
+  std::vector<capture::ScenePerson> people;
+  for (std::size_t k = 0; k < user.people.size(); ++k) {
+    people.push_back(
+        {user.people[k], script_person_target(k), site::expected_person_head(a.site, a.solver, k)});
+  }
   const capture::VirtualUserScene scene{a.site.user.T_world_floor(), a.site.target_map.objects,
-                                        a.T_world_remote_origin.translation};
+                                        a.T_world_remote_origin.translation, people};
   capture::ScriptPerformance performance;
   try {
-    const site::VirtualUser& user = *a.site.virtual_user;
     performance = capture::perform_script(capture::find_subject(user.subject), user.script, scene,
                                           user.seed, o.seconds);
   } catch (const Error& e) {
