@@ -12,18 +12,10 @@ namespace deixis::site {
 
 namespace {
 
-net::Hello hello_of(const SiteConfig& site, const BodyCalibration& user) {
-  net::Hello h;
-  h.site = site.site;
-  h.avatar.model = "";  // the receiving site chooses what the avatar wears
-  h.avatar.body = user;
-  return h;
-}
-
 net::RoomConfig room_config(const RoomPeerOptions& options, const SiteConfig& site,
                             const BodyCalibration& user) {
   net::RoomConfig c;
-  c.hello = hello_of(site, user);
+  c.hello = site_hello(site, user);
   c.target_map = site.target_map;
   c.passphrase = options.passphrase;
   return c;

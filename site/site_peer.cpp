@@ -7,23 +7,11 @@
 
 namespace deixis::site {
 
-namespace {
-
-net::Hello hello_of(const SiteConfig& site, const BodyCalibration& user) {
-  net::Hello h;
-  h.site = site.site;
-  h.avatar.model = "";  // the receiving site chooses what the avatar wears
-  h.avatar.body = user;
-  return h;
-}
-
-}  // namespace
-
 SitePeer::SitePeer(const SitePeerOptions& options, const SiteConfig& site,
                    const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
                    const ik::AvatarSolver& solver, double now)
     : net_(SiteSessionOptions{options.role, options.address, options.port, options.passphrase},
-           hello_of(site, user), site.target_map),
+           site_hello(site, user), site.target_map),
       people_(site, networks, solver, options.people) {
   net_.start(now, options.wait);
 }

@@ -35,6 +35,14 @@ std::string refusal_message(const net::PeerStatus& status, net::Role role) {
 
 }  // namespace
 
+net::Hello site_hello(const SiteConfig& site, const BodyCalibration& user) {
+  net::Hello h;
+  h.site = site.site;
+  h.avatar.model = "";
+  h.avatar.body = user;
+  return h;
+}
+
 SiteSession::SiteSession(const SiteSessionOptions& options, net::Hello hello, TargetMap map)
     : options_(options) {
   if (options.role == net::Role::kHost) {

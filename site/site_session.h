@@ -11,6 +11,7 @@
 
 #include "net/enet_link.h"
 #include "net/session.h"
+#include "site/site_config.h"
 
 namespace deixis::site {
 
@@ -31,6 +32,10 @@ struct SiteSessionOptions {
   std::uint16_t port = 0;             // host: 0 picks a free port (see port())
   std::string passphrase;
 };
+
+// A site's hello: its name and its user's body calibration; the avatar they wear is the
+// receiving site's choice (an empty avatar model).
+net::Hello site_hello(const SiteConfig& site, const BodyCalibration& user);
 
 class SiteSession {
  public:
