@@ -120,6 +120,18 @@ class Deixis {
     }
   }
 
+  // Reads the child's output until its standard output or error holds `text` (true), or it ends
+  // or `seconds` pass (false), while it keeps running.
+  bool wait_for_text(const std::string& text, double seconds) {
+    const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+    while (text_[0].find(text) == std::string::npos && text_[1].find(text) == std::string::npos) {
+      if (Clock::now() >= end || !read_some(100)) {
+        return false;
+      }
+    }
+    return true;
+  }
+
   const std::string& out() const { return text_[0]; }
   const std::string& err() const { return text_[1]; }
 

@@ -10,7 +10,6 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <thread>
 
 #include "app/deixis_child.h"
 
@@ -85,9 +84,9 @@ TEST(Rooms, ThreeSitesSeeEachOtherAndOnePersonsLossStaysTheirs) {
   Deixis relay({"relay", "--port", "0"});
   const int port = relay.port();
   ASSERT_GT(port, 0) << relay.err();
-  Deixis a(join_args(port, "meeting", "a.json", dir.path() / "a", 8.0));
-  Deixis b(join_args(port, "meeting", "b.json", dir.path() / "b", 8.0));
-  Deixis c(join_args(port, "meeting", "c.json", dir.path() / "c", 8.0) +
+  Deixis a(join_args(port, "meeting", "a.json", dir.path() / "a", 12.0));
+  Deixis b(join_args(port, "meeting", "b.json", dir.path() / "b", 12.0));
+  Deixis c(join_args(port, "meeting", "c.json", dir.path() / "c", 12.0) +
            std::vector<std::string>{"--drop-tracking", "0.2"});
   finish(relay, {&a, &b, &c});
 
@@ -101,7 +100,8 @@ TEST(Rooms, ThreeSitesSeeEachOtherAndOnePersonsLossStaysTheirs) {
     for (const std::string& other : expected) {
       ASSERT_TRUE(people.count(other)) << other << " missing: " << session.dump(2);
       const json& p = people.at(other);
-      // Sites start a second or two apart and run 8 s each: at least 4 s of frames overlap.
+      // Sites start up to a few seconds apart (more in a sanitizer build) and run 12 s each:
+      // at least 3.3 s of frames overlap.
       EXPECT_GT(p["frames_played"].get<long>(), 100) << p.dump();
       EXPECT_GT(p["visible_ticks"].get<long>(), 100) << p.dump();
     }
@@ -115,8 +115,9 @@ TEST(Rooms, ThreeSitesSeeEachOtherAndOnePersonsLossStaysTheirs) {
       const double missed = p["frames_missed"].get<double>();
       return missed / std::max(1.0, played + missed);
     };
+    // A loaded machine may make anyone's frames late now and then; C's loss comes on top.
     EXPECT_GT(missed_share("C"), 0.10) << name;
-    EXPECT_LT(missed_share(other), 0.05) << name;
+    EXPECT_GT(missed_share("C"), missed_share(other) + 0.08) << name;
   }
 }
 
@@ -128,12 +129,12 @@ TEST(Rooms, AWrongPassphraseSeesNoOneAndAFullRoomIsRefused) {
   const int port = relay.port();
   ASSERT_GT(port, 0) << relay.err();
   set_passphrase("the right one");
-  Deixis a(join_args(port, "sealed", "a.json", dir.path() / "a", 5.0));
-  Deixis b(join_args(port, "sealed", "b.json", dir.path() / "b", 5.0));
+  Deixis a(join_args(port, "sealed", "a.json", dir.path() / "a", 8.0));
+  Deixis b(join_args(port, "sealed", "b.json", dir.path() / "b", 8.0));
   set_passphrase("a wrong one");
-  Deixis c(join_args(port, "sealed", "c.json", dir.path() / "c", 5.0));
-  // Once three are in, a fourth is refused.
-  std::this_thread::sleep_for(std::chrono::seconds(3));
+  Deixis c(join_args(port, "sealed", "c.json", dir.path() / "c", 8.0));
+  // Once three are in (the relay logs "(3 now"), a fourth is refused.
+  ASSERT_TRUE(relay.wait_for_text("(3 now", 60.0)) << relay.out() << relay.err();
   set_passphrase("the right one");
   Deixis d(join_args(port, "sealed", "a.json", dir.path() / "d", 5.0));
   EXPECT_EQ(d.wait(), 1) << d.err();
