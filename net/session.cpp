@@ -978,7 +978,7 @@ std::optional<AvatarHash> Session::remote_avatar_hash() const {
   return remote_hello_ ? parse_avatar_hash(remote_hello_->avatar.model) : std::nullopt;
 }
 
-bool Session::request_avatar(double now) {
+bool Session::request_avatar() {
   const std::optional<AvatarHash> hash = remote_avatar_hash();
   if (!hash || !serving()) {
     return false;
@@ -987,7 +987,6 @@ bool Session::request_avatar(double now) {
   encode(AvatarRequest{*hash}, bytes);
   avatar_rx_.expect(*hash);
   log().info("net: asking {} for their avatar file {}", peer_name(), to_hex(*hash).substr(0, 12));
-  (void)now;
   return send_reliable(bytes);
 }
 

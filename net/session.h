@@ -207,7 +207,7 @@ class Session {
   std::optional<AvatarHash> remote_avatar_hash() const;
   // Asks the peer for that file (a site whose cache lacks it); false when there is none to ask
   // for or we are not past the hello exchange. The download then fills avatar_download().
-  bool request_avatar(double now);
+  bool request_avatar();
   const AvatarReceiver& avatar_download() const { return avatar_rx_; }
 
  private:

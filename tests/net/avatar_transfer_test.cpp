@@ -191,7 +191,7 @@ TEST_P(AvatarSessionTest, TheFileArrivesWhenAskedFor) {
   EXPECT_EQ(*pair.host.remote_avatar_hash(), avatar_hash(*file));
   EXPECT_FALSE(pair.joiner.remote_avatar_hash());  // the host chose none
 
-  ASSERT_TRUE(pair.host.request_avatar(pair.now));
+  ASSERT_TRUE(pair.host.request_avatar());
   const bool arrived = pair.run_until(
       [&] { return pair.host.avatar_download().status() != AvatarReceiveStatus::kReceiving; }, 5.0,
       1.0 / 30.0);
@@ -210,7 +210,7 @@ TEST_P(AvatarSessionTest, NothingToAskForWhenTheHelloNamesNoFile) {
   const std::string passphrase = GetParam() ? "correct horse" : "";
   testing::SessionPair pair({}, 2, passphrase, passphrase);
   ASSERT_TRUE(pair.connect());
-  EXPECT_FALSE(pair.host.request_avatar(pair.now));  // the joiner's hello names no file
+  EXPECT_FALSE(pair.host.request_avatar());  // the joiner's hello names no file
   EXPECT_EQ(pair.joiner.stats().avatar_requests_received, 0u);
 }
 
