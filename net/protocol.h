@@ -11,8 +11,9 @@
 namespace deixis::net {
 
 // 2: ephemeral X25519 in the handshake, site names bound by the proofs, padded reliable packets,
-// the joiner's floor on the key cost (docs/protocol.md, "Versioning").
-inline constexpr std::uint16_t kProtocolVersion = 2;
+// the joiner's floor on the key cost. 3: avatar request and data messages, person targets in
+// tracking frames (docs/protocol.md, "Versioning").
+inline constexpr std::uint16_t kProtocolVersion = 3;
 // The first bytes of welcome and join: "DEIX". A peer that is not Deixis fails here.
 inline constexpr std::array<std::byte, 4> kMagic = {std::byte{'D'}, std::byte{'E'}, std::byte{'I'},
                                                     std::byte{'X'}};
