@@ -71,6 +71,15 @@ void add_site_flags(CLI::App* cmd, site::SiteRunOptions& o) {
       ->check(CLI::Range(64, 2160));
   cmd->add_flag_callback(
       "--no-video", [&o] { o.video = false; }, "Do not render (no EGL context, no ffmpeg)");
+  cmd->add_option("--avatar", o.avatar,
+                  "The avatar this site's user chose (glTF/GLB, VRM or Mixamo bone names; "
+                  "docs/avatars.md): checked here first (exit 2 if it does not load), then sent "
+                  "once to the sites that lack it; they show this person wearing it")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--remote-avatar", o.remote_avatar,
+                  "Show every remote person wearing this avatar here, whatever they chose (a "
+                  "local override; default: their chosen avatar, else the site's own)")
+      ->check(CLI::ExistingFile);
 }
 
 // ---- The passphrase and who may reach a host (docs/security.md) ----

@@ -76,6 +76,7 @@ int run_site(const site::SiteRunOptions& options) {
                   "end is not part of this build)");
     }
     assets.emplace(site::load_site_assets(std::move(site), options.weights_dir));
+    site::load_run_avatars(*assets, options);
     user = perform_virtual_user(options, *assets);
     use_site_logger(options, assets->site.site);
     std::error_code ec;

@@ -82,6 +82,8 @@ struct RemotePeople::Slot {
   bool live = false;
   bool queued = false;  // in tick()'s current round
   PersonStats stats;
+  BodyCalibration body;                         // the person's, from their hello
+  std::shared_ptr<const PersonAvatar> wearing;  // null: the site's default
   std::optional<presence::RemoteAvatar> avatar;
   std::optional<presence::PoseCopy> copy;         // the copy-paste baseline, when measuring
   std::optional<eval::DeicticObserver> observer;  // when measuring
@@ -137,24 +139,84 @@ const presence::RemoteAvatar& RemotePeople::meet(PersonId id, const net::Hello& 
     slot = free->get();
     ++present_;
   }
-  const BodyCalibration& person = hello.avatar.body;
-  const MoeNetworks& n = networks_[static_cast<std::size_t>(index(person.deictic_hand))];
-  const std::size_t spot = slot->stats.spot;
-  slot->avatar.emplace(
-      n.mpnet, n.ugnet, solver_,
-      presence::RemoteAvatarConfig{person, site_.spots[spot].T_world_floor(),
-                                   static_cast<std::uint32_t>(id), options_.touch_contact});
+  // A new hello naming the file they wear already (a reconnect, a new calibration) keeps it.
+  const std::optional<net::AvatarHash> named = net::parse_avatar_hash(hello.avatar.model);
+  if (options_.override_avatar) {
+    slot->wearing = options_.override_avatar;
+  } else if (!(slot->taken && slot->wearing && named && *named == slot->wearing->hash)) {
+    slot->wearing = nullptr;
+  }
+  slot->body = hello.avatar.body;
   slot->taken = true;
   slot->live = true;
-  slot->stats = PersonStats{id, hello.site, spot};
-  if (options_.completions > 0) {
-    slot->copy.emplace(person, slot->T_world_origin, solver_.rig.height);
-    slot->observer.emplace(options_.completions);
-    slot->gaze = GazeWatch{};
-    slot->gaze.samples.reserve(options_.completions);
-  }
+  slot->stats = PersonStats{id, hello.site, slot->stats.spot};
+  dress(*slot);
   ++record_of(hello.site).stays;
   return *slot->avatar;
+}
+
+const ik::AvatarSolver& RemotePeople::solver_of(const Slot& slot) const {
+  return slot.wearing ? slot.wearing->solver : solver_;
+}
+
+// A fresh avatar for the slot's person in what they wear: translation state, IK buffers, root
+// and, when measuring, the copy-paste baseline for that rig.
+void RemotePeople::dress(Slot& slot) {
+  const ik::AvatarSolver& solver = solver_of(slot);
+  const MoeNetworks& n = networks_[static_cast<std::size_t>(index(slot.body.deictic_hand))];
+  const Pose& T_world_floor = site_.spots[slot.stats.spot].T_world_floor();
+  slot.T_world_origin = presence::avatar_origin(solver, T_world_floor);
+  slot.avatar.emplace(n.mpnet, n.ugnet, solver,
+                      presence::RemoteAvatarConfig{slot.body, T_world_floor,
+                                                   static_cast<std::uint32_t>(slot.stats.id),
+                                                   options_.touch_contact});
+  if (options_.completions > 0) {
+    slot.copy.emplace(slot.body, slot.T_world_origin, solver.rig.height);
+    if (!slot.observer) {
+      slot.observer.emplace(options_.completions);
+      slot.gaze = GazeWatch{};
+      slot.gaze.samples.reserve(options_.completions);
+    }
+  }
+}
+
+bool RemotePeople::wear(PersonId id, std::shared_ptr<const PersonAvatar> avatar) {
+  Slot* slot = find(id);
+  if (slot == nullptr || options_.override_avatar) {
+    return false;
+  }
+  slot->wearing = std::move(avatar);
+  if (slot->observer) {
+    slot->observer->interrupt();  // a hold being measured ends with the avatar it was on
+    slot->gaze.end_hold();
+  }
+  dress(*slot);
+  list_visible();
+  return true;
+}
+
+const PersonAvatar* RemotePeople::wearing(PersonId id) const {
+  const Slot* slot = find(id);
+  return slot != nullptr ? slot->wearing.get() : nullptr;
+}
+
+const PersonAvatar* RemotePeople::wearing(const presence::RemoteAvatar& avatar) const {
+  for (const auto& slot : slots_) {
+    if (slot->taken && &*slot->avatar == &avatar) {
+      return slot->wearing.get();
+    }
+  }
+  return nullptr;
+}
+
+PersonAvatarRecord RemotePeople::avatar_record(const Slot& slot) const {
+  PersonAvatarRecord r;
+  r.joints = solver_of(slot).joint_count();
+  if (slot.wearing) {
+    r.source = std::string(avatar_source_name(slot.wearing->source));
+    r.hash = net::to_hex(slot.wearing->hash);
+  }
+  return r;
 }
 
 void RemotePeople::leave(PersonId id) {
@@ -165,6 +227,7 @@ void RemotePeople::leave(PersonId id) {
   fold_into_record(*slot);
   slot->taken = false;
   slot->live = false;
+  slot->wearing = nullptr;
   slot->avatar.reset();
   slot->copy.reset();
   slot->observer.reset();
@@ -196,6 +259,7 @@ PersonRecord& RemotePeople::record_of(const std::string& site) {
 // record, and the slot's counters start over.
 void RemotePeople::fold_into_record(Slot& slot) {
   PersonRecord& r = record_of(slot.stats.site);
+  r.avatar = avatar_record(slot);
   r.frames_played += slot.stats.frames_played;
   r.frames_missed += slot.stats.frames_missed;
   r.visible_ticks += slot.stats.visible_ticks;
@@ -354,6 +418,7 @@ std::vector<PersonRecord> RemotePeople::records() const {
     }
     auto r = std::find_if(out.begin(), out.end(),
                           [&](const PersonRecord& p) { return p.site == slot->stats.site; });
+    r->avatar = avatar_record(*slot);
     r->frames_played += slot->stats.frames_played;
     r->frames_missed += slot->stats.frames_missed;
     r->visible_ticks += slot->stats.visible_ticks;

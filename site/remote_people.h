@@ -31,6 +31,7 @@
 #include "presence/people_tick.h"
 #include "presence/pose_copy.h"
 #include "presence/remote_avatar.h"
+#include "site/avatar_cache.h"
 #include "site/moe_weights.h"
 #include "site/site_config.h"
 #include "site/site_report.h"
@@ -43,6 +44,9 @@ struct RemotePeopleOptions {
   // its own).
   std::size_t completions = 0;
   bool touch_contact = true;
+  // Every remote person wears this avatar here, whatever they chose (a site's local override,
+  // `--remote-avatar`); null: the site's own until wear() gives them theirs.
+  std::shared_ptr<const PersonAvatar> override_avatar{};
 };
 
 // One remote person, as seen from this site.
@@ -65,7 +69,8 @@ struct PersonFrame {
 
 class RemotePeople {
  public:
-  // `site`, `networks` and `solver` must outlive it (one solver serves every avatar).
+  // `site`, `networks` and `solver` must outlive it. `solver` is the site's default avatar's,
+  // which everyone wears until they wear another (wear(), the override).
   RemotePeople(const SiteConfig& site, const std::array<MoeNetworks, 2>& networks,
                const ik::AvatarSolver& solver, const RemotePeopleOptions& options = {});
   ~RemotePeople();
@@ -78,6 +83,15 @@ class RemotePeople {
   const presence::RemoteAvatar& meet(PersonId id, const net::Hello& hello);
   // Person `id` left: their avatar goes and their spot is free. Unknown ids are ignored.
   void leave(PersonId id);
+  // Person `id` wears `avatar` from now on (null: the site's default again): their avatar starts
+  // over with its rig and solver on the same spot (hidden until their next frame); nobody else's
+  // changes. Ignored (false) for unknown ids and while an override is set. `avatar` is kept
+  // alive as long as anyone wears it (SiteView keeps its mesh by address meanwhile).
+  bool wear(PersonId id, std::shared_ptr<const PersonAvatar> avatar);
+  // What person `id` wears here: null for the site's default (or not present).
+  const PersonAvatar* wearing(PersonId id) const;
+  // What the person whose avatar is `avatar` wears (null: the default, or not one of ours).
+  const PersonAvatar* wearing(const presence::RemoteAvatar& avatar) const;
 
   // Where this room's people are for this room's LocalTargets: every visible avatar's head (its
   // eye midpoint after IK, as of the last tick) and, unless `self` is kNoPerson, the own user's
@@ -121,6 +135,9 @@ class RemotePeople {
   Slot* find(PersonId id);
   const Slot* find(PersonId id) const;
   PersonRecord& record_of(const std::string& site);
+  PersonAvatarRecord avatar_record(const Slot& slot) const;
+  const ik::AvatarSolver& solver_of(const Slot& slot) const;
+  void dress(Slot& slot);
   void fold_into_record(Slot& slot);
   void list_visible();
   void after_tick(Slot& slot, const PersonFrame& frame, const LocalTargets& room, double time);

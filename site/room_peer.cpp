@@ -18,6 +18,7 @@ net::RoomConfig room_config(const RoomPeerOptions& options, const SiteConfig& si
   c.hello = site_hello(site, user);
   c.target_map = site.target_map;
   c.passphrase = options.passphrase;
+  c.avatar_file = options.avatar_file;
   return c;
 }
 
@@ -69,6 +70,9 @@ RoomPeer::RoomPeer(const RoomPeerOptions& options, const SiteConfig& site,
   session_ = std::make_unique<net::RoomSession>(*transport_, room_config(options_, site, user));
   // At most one frame per person per round: sized once for every spot.
   batch_.reserve(people_.capacity());
+  if (options_.chosen_avatars && !options_.people.override_avatar) {
+    chosen_ = std::make_unique<ChosenAvatars>(options_.avatar_cache);
+  }
 }
 
 RoomPeer::~RoomPeer() = default;
@@ -109,6 +113,9 @@ void RoomPeer::take_events() {
           try {
             people_.meet(e.person, *hello);
             spdlog::info("room {}: {} is here", options_.room, hello->site);
+            if (chosen_) {
+              chosen_->named(e.person, hello->site, session_->avatar_hash(e.person));
+            }
           } catch (const Error& error) {
             // More people than spots: this person is not shown here; the others go on.
             ++stats_.people_refused;
@@ -123,11 +130,47 @@ void RoomPeer::take_events() {
                        net::left_because_name(e.why));
         }
         people_.leave(e.person);
+        if (chosen_) {
+          chosen_->left(e.person);
+        }
         break;
       case net::RoomEventKind::kTargetMapChanged:
         break;  // read with each played frame
       case net::RoomEventKind::kAvatarFile:
-        break;  // this site asks for no chosen avatars yet: everyone wears the site's own
+        avatar_download_ended(e.person);
+        break;
+    }
+  }
+  if (chosen_) {
+    take_chosen_avatars();
+  }
+}
+
+void RoomPeer::avatar_download_ended(net::MemberId person) {
+  const net::AvatarReceiver* download = session_->avatar_download(person);
+  if (!chosen_ || download == nullptr) {
+    return;
+  }
+  if (download->status() == net::AvatarReceiveStatus::kComplete) {
+    chosen_->downloaded(person, download->file());
+  } else if (download->status() == net::AvatarReceiveStatus::kFailed) {
+    chosen_->download_failed(person, download->failure());
+  }
+}
+
+// What ChosenAvatars says is due: ask a person for their file; dress them in it. Loads run on
+// their own thread, so this never waits.
+void RoomPeer::take_chosen_avatars() {
+  ChosenAvatars::Update update;
+  while (chosen_->next(update)) {
+    if (update.kind == ChosenAvatars::Update::Kind::kRequest) {
+      if (!session_->request_avatar(update.person)) {
+        chosen_->download_failed(update.person, "they could not be asked for it");
+      }
+    } else if (people_.wear(update.person, update.avatar)) {
+      const PersonStats* person = people_.stats(update.person);
+      spdlog::info("room {}: {} wears the avatar they chose ({} joints)", options_.room,
+                   person != nullptr ? person->site : "?", update.avatar->solver.joint_count());
     }
   }
 }

@@ -10,6 +10,7 @@
 // looks at Y's avatar here.
 
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <random>
 #include <string>
@@ -35,6 +36,12 @@ struct RoomPeerOptions {
   double drop_tracking = 0.0;
   std::uint32_t drop_seed = 1;
   RemotePeopleOptions people;
+  // The avatar file the user chose, offered to everyone by its hash (docs/avatars.md).
+  std::shared_ptr<const std::vector<std::byte>> avatar_file{};
+  // Whether people's chosen avatars are fetched and worn (as SitePeerOptions::chosen_avatars),
+  // kept on disk in `avatar_cache` (empty: in memory only).
+  bool chosen_avatars = false;
+  std::filesystem::path avatar_cache{};
 };
 
 struct RoomPeerStats {
@@ -79,6 +86,8 @@ class RoomPeer {
   void take_events();
   void count_received(net::MemberId person);  // before the session forgets them
   void play_due_frames(double now, const LocalTargets& room);
+  void take_chosen_avatars();
+  void avatar_download_ended(net::MemberId person);
 
   const SiteConfig& site_;
   RoomPeerOptions options_;
@@ -88,7 +97,8 @@ class RoomPeer {
   std::unique_ptr<LossyTransport> transport_;
   std::unique_ptr<net::RoomSession> session_;
   RemotePeople people_;
-  std::vector<PersonFrame> batch_;  // one round of due frames, at most one per person
+  std::unique_ptr<ChosenAvatars> chosen_;  // null: everyone wears the site's avatar
+  std::vector<PersonFrame> batch_;         // one round of due frames, at most one per person
   double started_ = 0.0;
   bool entered_once_ = false;
   bool closed_ = false;

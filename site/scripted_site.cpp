@@ -200,6 +200,9 @@ class ScriptedSite {
     remote_pictures_.clear();  // capacity: one per spot, reserved at construction
     for (const presence::RemoteAvatar* avatar : visible_avatars()) {
       AvatarPicture remote{avatar->T_world_model(), avatar->model_pose()};
+      if (const PersonAvatar* wearing = peer_.people().wearing(*avatar); wearing != nullptr) {
+        remote.mesh = &wearing->avatar.mesh;
+      }
       const TargetObject* target = a_.site.target_map.find(avatar->frame().hand_target);
       if (target != nullptr && avatar->frame().progression[1] > kRayShownAbove) {
         remote =
@@ -273,6 +276,11 @@ class ScriptedSite {
     if (session.remote_hello() != nullptr) {
       PersonRecord person;
       person.site = record_.peer_site;
+      for (const PersonRecord& p : peer_.people().records()) {
+        if (p.site == person.site) {
+          person.avatar = p.avatar;  // what they wore last
+        }
+      }
       person.frames_played = peer_.stats().played;
       person.frames_missed = peer_.stats().missed;
       person.visible_ticks = peer_.stats().visible_ticks;
@@ -310,6 +318,17 @@ SiteAssets load_site_assets(SiteConfig site, const std::filesystem::path& weight
           std::move(networks), user_origin,       remote_origin};
 }
 
+void load_run_avatars(SiteAssets& assets, const SiteRunOptions& o) {
+  if (!o.avatar.empty()) {
+    // Loaded here as every other site will load it, so that a file they could not show is
+    // refused before connecting rather than found out by each of them.
+    load_person_avatar(o.avatar, AvatarSource::kChosen, &assets.own_avatar_file);
+  }
+  if (!o.remote_avatar.empty()) {
+    assets.remote_override = load_person_avatar(o.remote_avatar, AvatarSource::kOverride);
+  }
+}
+
 namespace {
 
 template <class Peer>
@@ -345,11 +364,19 @@ SiteRecord run_scripted_site(const SiteRunOptions& o, const SiteAssets& assets,
     room.wait = o.wait;
     room.drop_tracking = o.drop_tracking;
     room.people.completions = kMaxCompletions;
+    room.people.override_avatar = assets.remote_override;
+    room.avatar_file = assets.own_avatar_file;
+    room.chosen_avatars = true;  // this loop draws each person in what they wear
+    room.avatar_cache = AvatarCache::default_dir();
     RoomPeer peer(room, assets.site, user.body, assets.networks, assets.solver, clock.now());
     return run_loop(o, assets, user, clock, peer);
   }
-  const SitePeerOptions peer_options{o.host ? net::Role::kHost : net::Role::kJoiner, o.address,
-                                     o.port, o.passphrase, o.wait};
+  SitePeerOptions peer_options{o.host ? net::Role::kHost : net::Role::kJoiner, o.address, o.port,
+                               o.passphrase, o.wait};
+  peer_options.people.override_avatar = assets.remote_override;
+  peer_options.avatar_file = assets.own_avatar_file;
+  peer_options.chosen_avatars = true;
+  peer_options.avatar_cache = AvatarCache::default_dir();
   SitePeer peer(peer_options, assets.site, user.body, assets.networks, assets.solver, clock.now());
   if (o.host) {
     std::printf("port %u\n", static_cast<unsigned>(peer.port()));

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "core/script_step.h"
 #include "core/tracking.h"
 #include "ik/avatar_solver.h"
+#include "site/avatar_cache.h"
 #include "site/moe_weights.h"
 #include "site/site_config.h"
 #include "site/site_report.h"
@@ -39,6 +41,12 @@ struct SiteRunOptions {
   double wait = 30.0;          // s to wait for the other site
   std::filesystem::path out_dir;
   std::filesystem::path weights_dir;  // holds right/ and left/ with the MoE weights
+  // The avatar this site's user chose (docs/avatars.md, "A person's own avatar"): offered to the
+  // other sites by its hash. Empty: none, the others show the person in their own default.
+  std::filesystem::path avatar;
+  // Every remote person wears this avatar here, whatever they chose (a local override). Empty:
+  // people wear what they chose, or the site's own avatar until theirs arrived.
+  std::filesystem::path remote_avatar;
   int view_width = 640;
   int view_height = 360;
   bool video = true;
@@ -52,9 +60,16 @@ struct SiteAssets {
   std::array<MoeNetworks, 2> networks;  // by the remote person's deictic hand
   Pose T_world_user_origin;             // the user's copy stands where the user does
   Pose T_world_remote_origin;           // the remote person's avatar
+  // The user's chosen avatar file (--avatar), offered to the others; null: none.
+  std::shared_ptr<const std::vector<std::byte>> own_avatar_file{};
+  // What every remote person wears here (--remote-avatar); null: what they chose.
+  std::shared_ptr<const PersonAvatar> remote_override{};
 };
 // Throws deixis::Error naming the file for a bad avatar or weights.
 SiteAssets load_site_assets(SiteConfig site, const std::filesystem::path& weights_dir);
+// Loads the avatars SiteRunOptions names (--avatar, --remote-avatar) into `assets`, before
+// anything connects; throws deixis::Error naming a file that is no usable avatar.
+void load_run_avatars(SiteAssets& assets, const SiteRunOptions& options);
 
 // The site's scripted user, as performed: 30 Hz frames (frames[i].time = i / 30), the deictic
 // progression per frame (rays are drawn above 0.5), when each step completed, and the body.

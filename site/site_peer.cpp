@@ -10,9 +10,13 @@ namespace deixis::site {
 SitePeer::SitePeer(const SitePeerOptions& options, const SiteConfig& site,
                    const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
                    const ik::AvatarSolver& solver, double now)
-    : net_(SiteSessionOptions{options.role, options.address, options.port, options.passphrase},
+    : net_(SiteSessionOptions{options.role, options.address, options.port, options.passphrase,
+                              options.avatar_file},
            site_hello(site, user), site.target_map),
       people_(site, networks, solver, options.people) {
+  if (options.chosen_avatars && !options.people.override_avatar) {
+    chosen_ = std::make_unique<ChosenAvatars>(options.avatar_cache);
+  }
   net_.start(now, options.wait);
 }
 
@@ -23,6 +27,9 @@ void SitePeer::meet_remote_person(const net::Hello& hello, RemotePersonWatcher* 
   stream_ = net_.session().status().streams;
   stats_.peer_site = hello.site;
   spdlog::info("streaming with site {}", hello.site);
+  if (chosen_) {
+    chosen_->named(kDirectPerson, hello.site, net::parse_avatar_hash(hello.avatar.model));
+  }
   if (watcher != nullptr) {
     watcher->on_new_person(hello, avatar);
   }
@@ -47,6 +54,9 @@ void SitePeer::tick(const TrackingFrame& user, double sampled, double now, const
     stats_.sent += session.send_tracking(frame) ? 1 : 0;
     play_due_frames(now, room, watcher);
   }
+  if (chosen_) {
+    take_chosen_avatar();
+  }
   if (!live_ && watcher != nullptr) {
     watcher->on_no_stream();
   }
@@ -56,6 +66,39 @@ void SitePeer::tick(const TrackingFrame& user, double sampled, double now, const
   people_.set_live(kDirectPerson, live_);
   people_.end_tick();
   stats_.visible_ticks += visible_avatar() != nullptr ? 1 : 0;
+}
+
+// The other person's chosen avatar: their download as it ends, then what ChosenAvatars says is
+// due (ask for the file; wear it). Loads run on their own thread, so this never waits.
+void SitePeer::take_chosen_avatar() {
+  net::Session& session = net_.session();
+  if (chosen_->awaiting(kDirectPerson)) {
+    const net::AvatarReceiver& download = session.avatar_download();
+    switch (download.status()) {
+      case net::AvatarReceiveStatus::kComplete:
+        chosen_->downloaded(kDirectPerson, download.file());
+        break;
+      case net::AvatarReceiveStatus::kFailed:
+        chosen_->download_failed(kDirectPerson, download.failure());
+        break;
+      case net::AvatarReceiveStatus::kIdle:
+        chosen_->download_failed(kDirectPerson, "the connection ended first");
+        break;
+      case net::AvatarReceiveStatus::kReceiving:
+        break;
+    }
+  }
+  ChosenAvatars::Update update;
+  while (chosen_->next(update)) {
+    if (update.kind == ChosenAvatars::Update::Kind::kRequest) {
+      if (!session.request_avatar()) {
+        chosen_->download_failed(kDirectPerson, "the other site could not be asked for it");
+      }
+    } else if (people_.wear(kDirectPerson, update.avatar)) {
+      spdlog::info("site {} wears the avatar they chose ({} joints)", stats_.peer_site,
+                   update.avatar->solver.joint_count());
+    }
+  }
 }
 
 void SitePeer::play_due_frames(double now, const LocalTargets& room, RemotePersonWatcher* watcher) {

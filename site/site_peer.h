@@ -9,6 +9,8 @@
 
 #include <array>
 #include <cstdint>
+#include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -29,6 +31,14 @@ struct SitePeerOptions {
   // What the remote person's record measures (RemotePeople::records(): completion states and
   // gazes); by default nothing (a driver that measures through a RemotePersonWatcher).
   RemotePeopleOptions people{};
+  // The avatar file the user chose, offered to the other site by its hash (docs/avatars.md).
+  std::shared_ptr<const std::vector<std::byte>> avatar_file{};
+  // Whether the other site's chosen avatar is fetched and worn (site/avatar_cache.h,
+  // ChosenAvatars): only for a driver that draws each person in what they wear (people().
+  // wearing()); otherwise everyone wears the site's avatar. Kept on disk in `avatar_cache`
+  // (empty: in memory only).
+  bool chosen_avatars = false;
+  std::filesystem::path avatar_cache{};
 };
 
 struct SitePeerStats {
@@ -89,11 +99,13 @@ class SitePeer {
 
  private:
   void meet_remote_person(const net::Hello& hello, RemotePersonWatcher* watcher);
+  void take_chosen_avatar();
   void play_due_frames(double now, const LocalTargets& room, RemotePersonWatcher* watcher);
 
   SiteSession net_;
   RemotePeople people_;
-  std::uint64_t stream_ = 0;  // the connection the avatar belongs to
+  std::unique_ptr<ChosenAvatars> chosen_;  // null: everyone wears the site's avatar
+  std::uint64_t stream_ = 0;               // the connection the avatar belongs to
   bool live_ = false;
   SitePeerStats stats_;
 };

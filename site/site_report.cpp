@@ -172,6 +172,9 @@ json people_json(const std::vector<PersonRecord>& people) {
                    {"touch_cm", number(t.avatar_cm)},
                    {"completions_dropped", p.completions_dropped}});
     out.back()["gazes"] = gazes_json(p.gazes, out.back());
+    out.back()["avatar"] = {{"source", p.avatar.source},
+                            {"hash", p.avatar.hash.empty() ? json(nullptr) : json(p.avatar.hash)},
+                            {"joints", p.avatar.joints}};
   }
   return out;
 }

@@ -28,8 +28,19 @@ struct GazeSample {
   double error_deg = 0.0;
 };
 
+// What a remote person's avatar was at the end of their last stay (session.json
+// people[].avatar; docs/avatars.md): "default" (the site's own), "chosen" (their file) or
+// "override" (this site's --remote-avatar); the file's hash (64 hex digits, empty for the
+// default) and the rig's joint count.
+struct PersonAvatarRecord {
+  std::string source = "default";
+  std::string hash;
+  int joints = 0;
+};
+
 struct PersonRecord {
   std::string site;
+  PersonAvatarRecord avatar;
   std::uint64_t frames_played = 0;
   std::uint64_t frames_missed = 0;
   std::uint64_t visible_ticks = 0;

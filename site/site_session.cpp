@@ -60,6 +60,7 @@ SiteSession::SiteSession(const SiteSessionOptions& options, net::Hello hello, Ta
   config.hello = std::move(hello);
   config.target_map = std::move(map);
   config.passphrase = options.passphrase;
+  config.avatar_file = options.avatar_file;
   link_->set_timeout_ms(static_cast<std::uint32_t>(config.heartbeat_timeout * 1000.0) + 2000);
   session_ = std::make_unique<net::Session>(*link_, std::move(config));
 }

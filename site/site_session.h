@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "net/enet_link.h"
 #include "net/session.h"
@@ -31,6 +32,8 @@ struct SiteSessionOptions {
   std::string address = "127.0.0.1";  // host: the address to bind; joiner: the host's
   std::uint16_t port = 0;             // host: 0 picks a free port (see port())
   std::string passphrase;
+  // The avatar file the user chose, offered by its hash in the hello (net::SessionConfig).
+  std::shared_ptr<const std::vector<std::byte>> avatar_file{};
 };
 
 // A site's hello: its name and its user's body calibration; the avatar they wear is the

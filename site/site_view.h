@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "avatar/avatar_loader.h"
@@ -23,13 +24,16 @@
 namespace deixis::site {
 
 // One avatar as drawn: where its model frame is and its joints' model poses; a ray from its eyes
-// through its fingertip toward what it designates, when it does.
+// through its fingertip toward what it designates, when it does. `mesh`: what it wears, null for
+// the site's own avatar (a remote person's chosen one, site/remote_people.h: one pose per joint
+// of its rig).
 struct AvatarPicture {
   Pose T_world_model;
   std::span<const Pose> T_model_joint;
   bool show_ray = false;
   Vec3 ray_from = Vec3::Zero();
   Vec3 ray_to = Vec3::Zero();
+  const avatar::SkinnedMesh* mesh = nullptr;
 };
 
 // The camera a site's configuration frames its room with, for an image of width × height.
@@ -48,14 +52,21 @@ class SiteView {
   // Draws both views (`remote` null: the avatar is hidden) and appends the frame to the video.
   void draw(const AvatarPicture& user, const AvatarPicture* remote);
   // The same with every visible remote person's avatar in the right view (a room of several
-  // people, site/remote_people.h); at most one per spot of the site.
+  // people, site/remote_people.h); at most one per spot of the site. A picture's mesh is
+  // uploaded the first time it is drawn (then kept by address: it must not be freed and another
+  // made in its place while the view lives; at most kMaxMeshes, beyond which such pictures are
+  // not drawn).
   void draw(const AvatarPicture& user, std::span<const AvatarPicture> remote);
   const render::Image& frame() const { return frame_; }
   // Finishes the video; throws deixis::Error if ffmpeg failed.
   void finish();
 
+  static constexpr std::size_t kMaxMeshes = 64;
+  std::size_t meshes() const { return meshes_.size(); }  // uploaded, the site's own included
+
  private:
   void draw_view(std::span<const AvatarPicture> pictures, int column);
+  std::optional<render::SkinnedMeshId> mesh_of(const avatar::SkinnedMesh* mesh);
 
   int view_width_;
   int view_height_;
@@ -63,6 +74,7 @@ class SiteView {
   render::HeadlessContext context_;
   std::optional<render::Renderer> renderer_;
   render::SkinnedMeshId mesh_;
+  std::vector<std::pair<const avatar::SkinnedMesh*, render::SkinnedMeshId>> meshes_;
   std::vector<render::AvatarDraw> avatars_;  // sized at construction: one per spot
   std::vector<render::DebugLine> lines_;
   render::Image view_;   // one view, read back

@@ -1,5 +1,6 @@
 // The remote people of a site (site/remote_people.h) allocate nothing per tick once everyone has
-// met: three people on room C's spots (both deictic hands), measured (completion states and
+// met: three people on room C's spots (both deictic hands; one in their own avatar, the BCN test
+// rig, the others in the site's), measured (completion states and
 // gazes observed), their frames played batched, one of them missing frames, over 90 ticks of
 // people_targets, tick and end_tick. Not built under ASan (tests/CMakeLists.txt).
 
@@ -10,8 +11,10 @@
 
 #include "allocation_counter.h"
 #include "avatar/avatar_loader.h"
+#include "avatar/bcn_rig.h"  // tests/avatar
 #include "capture/subject.h"
 #include "capture/virtual_user.h"
+#include "site/avatar_cache.h"
 #include "site/remote_people.h"
 #include "test_support.h"
 
@@ -38,6 +41,9 @@ TEST(RemotePeopleHotPath, TicksAllocateNothingOnceEveryoneHasMet) {
         capture::perform_script(capture::find_subject(subject), script, scene, 3, 6.0));
   }
   RemotePeople people(c, networks, solver, RemotePeopleOptions{256});
+  // Person 2 wears their own avatar (the BCN test rig), the others the site's: two rigs.
+  const std::shared_ptr<const PersonAvatar> bcn =
+      load_person_avatar(deixis::testing::bcn_glb(), AvatarSource::kChosen);
   deixis::testing::AllocationCounter meeting;
   for (PersonId id = 1; id <= 3; ++id) {
     net::Hello hello;
@@ -46,6 +52,7 @@ TEST(RemotePeopleHotPath, TicksAllocateNothingOnceEveryoneHasMet) {
     people.meet(id, hello);
   }
   EXPECT_GT(meeting.count(), 0u) << "the counter must see what meet() allocates";
+  ASSERT_TRUE(people.wear(2, bcn));
   const auto tick = [&](std::size_t i) {
     LocalTargets room{&c.target_map, Vec3(0, 1.6f, 0)};
     room.people = people.people_targets(4, room.partner_head);
@@ -67,8 +74,11 @@ TEST(RemotePeopleHotPath, TicksAllocateNothingOnceEveryoneHasMet) {
   for (; i < 120; ++i) {
     tick(i);
   }
-  EXPECT_EQ(counter.count(), 0u) << "over 90 ticks of three people";
+  EXPECT_EQ(counter.count(), 0u) << "over 90 ticks of three people in two rigs";
   EXPECT_EQ(people.visible().size(), 3u);
+  EXPECT_EQ(people.avatar(2)->model_pose().size(),
+            static_cast<std::size_t>(bcn->solver.joint_count()));
+  EXPECT_NE(bcn->solver.joint_count(), solver.joint_count());
   EXPECT_GT(people.stats(2)->frames_missed, 10u);
 }
 
