@@ -12,6 +12,7 @@
 #include "eval/deictic_observer.h"
 #include "presence/pose_copy.h"
 #include "presence/remote_avatar.h"
+#include "render/image.h"
 #include "site/room_peer.h"
 #include "site/site_peer.h"
 #include "site/site_view.h"
@@ -341,6 +342,10 @@ SiteRecord run_loop(const SiteRunOptions& o, const SiteAssets& assets, const Scr
   ScriptedSite<Peer> site(o, assets, user, peer, view ? &*view : nullptr);
   site.connect(clock);
   const SiteRecord record = site.run(clock);
+  if (view) {
+    // The last frame as a still: what each person wore at the end, for a look (or a test).
+    render::write_png(view->frame(), o.out_dir / "views.png");
+  }
   write_site_report(record, o.out_dir / "session.json");
   print_site_summary(record, stdout);
   std::printf("wrote %s\n", (o.out_dir / "session.json").string().c_str());
