@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -217,6 +218,65 @@ TEST(ChosenAvatarProcess, TheJoinerShowsTheHostInTheAvatarTheHostChose) {
     std::printf("baseline: two runs in the default avatar, IoU %.3f (%d px, %d px)\n",
                 iou(with_default, mask_of(again.path())), area_default,
                 area(mask_of(again.path())));
+  }
+}
+
+// The same through a room: a relay and two `deixis join --room`, A wearing the BCN rig. B shows A
+// in it; A shows B in the default.
+TEST(ChosenAvatarProcess, ARoomMemberSeesTheAvatarAnotherChose) {
+  const fs::path bcn = deixis::testing::bcn_glb();
+  const std::string hash = net::to_hex(net::avatar_hash(read_bytes(bcn)));
+  deixis::testing::ScratchDir dir;
+  unsetenv("DEIXIS_PASSPHRASE");  // an open room on loopback
+  Deixis relay({"relay", "--port", "0"});
+  const int port = relay.port();
+  ASSERT_GT(port, 0) << relay.err();
+  const auto member = [&](const char* name, const char* file, const char* seconds) {
+    return std::vector<std::string>{"join",   "--connect", "127.0.0.1:" + std::to_string(port),
+                                    "--room", "avatars",   "--no-video"} +
+           site_args(file, dir.path() / name, seconds);
+  };
+  std::optional<Deixis> a;
+  std::optional<Deixis> b;
+  {
+    const ScopedCacheHome cache(dir.path() / "cache-A");
+    a.emplace(member("A", "a.json", "10") + std::vector<std::string>{"--avatar", bcn.string()});
+  }
+  {
+    const ScopedCacheHome cache(dir.path() / "cache-B");
+    b.emplace(member("B", "b.json", "8"));
+  }
+  ASSERT_EQ(b->wait(), 0) << b->err();
+  ASSERT_EQ(a->wait(), 0) << a->err();
+  relay.send_signal(SIGTERM);
+  EXPECT_EQ(relay.wait(), 0) << relay.err();
+
+  const json at_b = read_json(dir.path() / "B" / "session.json");
+  ASSERT_EQ(at_b["people"].size(), 1u) << at_b.dump(2);
+  EXPECT_EQ(at_b["people"][0]["site"], "A");
+  EXPECT_EQ(at_b["people"][0]["avatar"]["source"], "chosen") << at_b.dump(2) << b->err();
+  EXPECT_EQ(at_b["people"][0]["avatar"]["hash"], hash);
+  EXPECT_EQ(at_b["people"][0]["avatar"]["joints"].get<int>(), kBcnJoints);
+  EXPECT_TRUE(fs::exists(dir.path() / "cache-B" / "deixis" / "avatars" / (hash + ".glb")));
+  const json at_a = read_json(dir.path() / "A" / "session.json");
+  ASSERT_EQ(at_a["people"].size(), 1u) << at_a.dump(2);
+  EXPECT_EQ(at_a["people"][0]["avatar"]["source"], "default");
+}
+
+// A chosen file that is no avatar is refused before connecting: exit 2 naming it (nobody listens
+// at the address it would join).
+TEST(ChosenAvatarProcess, AnAvatarFileThatDoesNotLoadExits2NamingIt) {
+  deixis::testing::ScratchDir dir;
+  const fs::path bad = dir.path() / "broken-avatar.glb";
+  std::ofstream(bad) << "glTF, or so it says";
+  for (const char* flag : {"--avatar", "--remote-avatar"}) {
+    SCOPED_TRACE(flag);
+    Deixis join(std::vector<std::string>{"join", "--connect", "127.0.0.1:9", "--no-video", flag,
+                                         bad.string()} +
+                site_args("b.json", dir.path() / "B", "2"));
+    EXPECT_EQ(join.wait(), 2) << join.err();
+    EXPECT_NE(join.err().find("broken-avatar.glb"), std::string::npos) << join.err();
+    EXPECT_EQ(join.err().find("could not reach"), std::string::npos) << join.err();
   }
 }
 
