@@ -5,7 +5,9 @@
 // 30 Hz clock. After a warm-up (connecting, the hellos and target maps, each remote avatar built
 // and shown, the first heartbeats), 300 ticks of each peer (10 s: 300 frames each way sent,
 // played out of the jitter buffer and translated into an avatar, heartbeats, ENet's
-// acknowledgements) make zero heap allocations in this thread.
+// acknowledgements) make zero heap allocations in this thread. B offers its own avatar (the BCN
+// test rig, docs/avatars.md) and A fetches it during the warm-up and wears it: a site showing a
+// person in the avatar they chose ticks without allocating as well.
 //
 // Excluded, and only that: ENet's own allocations. ENet mallocs every packet it sends or
 // receives and every protocol command it queues (enet_packet_create, enet_malloc; enet_link.h),
@@ -28,6 +30,9 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "avatar/bcn_rig.h"  // tests/avatar
+#include "site/avatar_cache.h"
 
 #include "allocation_counter.h"
 #include "avatar/avatar_loader.h"
@@ -128,10 +133,15 @@ TEST_P(SitePeerHotPath, StreamingTicksAllocateNothing) {
   const std::string passphrase(GetParam());
   double now = 0.0;
   // The host measures its remote person as it plays them (completion states and gazes).
-  SitePeer host(SitePeerOptions{net::Role::kHost, "127.0.0.1", 0, passphrase, 30.0, {256}},
-                a.config, a.performance.sequence.calibration, x.networks, a.solver, now);
-  SitePeer joiner(SitePeerOptions{net::Role::kJoiner, "127.0.0.1", host.port(), passphrase, 30.0},
-                  b.config, b.performance.sequence.calibration, x.networks, b.solver, now);
+  SitePeerOptions host_options{net::Role::kHost, "127.0.0.1", 0, passphrase, 30.0, {256}};
+  host_options.chosen_avatars = true;  // in memory only: no cache directory
+  SitePeer host(host_options, a.config, a.performance.sequence.calibration, x.networks, a.solver,
+                now);
+  SitePeerOptions joiner_options{net::Role::kJoiner, "127.0.0.1", host.port(), passphrase, 30.0};
+  load_person_avatar(deixis::testing::bcn_glb(), AvatarSource::kChosen,
+                     &joiner_options.avatar_file);
+  SitePeer joiner(joiner_options, b.config, b.performance.sequence.calibration, x.networks,
+                  b.solver, now);
   std::size_t tick = 0;
   const auto step = [&] {
     host.tick(a.frame(tick), now, a.room(tick));
@@ -157,6 +167,18 @@ TEST_P(SitePeerHotPath, StreamingTicksAllocateNothing) {
   for (int i = 0; i < 150; ++i) {
     step();
   }
+  // B's file arrives (paced at 128 KiB/s of the injected clock) and loads on a thread (real time).
+  const auto wears = [&] { return host.people().wearing(SitePeer::kDirectPerson) != nullptr; };
+  for (int i = 0; i < 3000 && !wears(); ++i) {
+    step();
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ASSERT_TRUE(wears()) << "A never dressed B in the avatar B chose";
+  for (int i = 0; i < 60; ++i) {
+    step();
+  }
+  ASSERT_NE(host.visible_avatar(), nullptr);
+  EXPECT_EQ(host.visible_avatar()->model_pose().size(), 54u) << "B in the BCN rig";
   EXPECT_GT(warm_up.count(), 0u) << "the counter must see what tick allocates";
 
   const SitePeerStats host_before = host.stats();
