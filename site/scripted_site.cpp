@@ -58,21 +58,23 @@ class RemoteMeasure final : public RemotePersonWatcher {
   const eval::DeicticObserver& observer() const { return observer_; }
   TargetId last_target() const { return last_target_; }
 
-  void on_new_person(const net::Hello& hello, const presence::RemoteAvatar&) override {
-    copy_.emplace(hello.avatar.body, a_.T_world_remote_origin, a_.solver.rig.height);
-    observer_.interrupt();
+  void on_new_person(const net::Hello& hello, const presence::RemoteAvatar& avatar) override {
+    body_ = hello.avatar.body;
+    dress(avatar.solver());
   }
 
   void on_played(const net::Playout& p, const presence::RemoteAvatar& avatar,
                  double translation_ms) override {
     push(record_.translation_ms, translation_ms);
     const TrackingFrame* frame = p.kind == net::PlayoutKind::kFrame ? p.frame : nullptr;
+    if (&avatar.solver() != solver_) {
+      dress(avatar.solver());  // they wear their own avatar now: its root, its baseline
+    }
     if (frame == nullptr || !avatar.visible() || !copy_) {
       return;
     }
     last_target_ = frame->hand_target;
-    const eval::AvatarChain chain{avatar.eye_midpoint(), avatar.index_fingertip(),
-                                  a_.T_world_remote_origin};
+    const eval::AvatarChain chain{avatar.eye_midpoint(), avatar.index_fingertip(), origin_};
     const net::Session& session = peer_->network().session();
     observer_.observe(*frame, p.sequence, now_ - start_, chain, *copy_, a_.site.target_map,
                       session.remote_target_map());
@@ -83,9 +85,21 @@ class RemoteMeasure final : public RemotePersonWatcher {
   void set_now(double now) { now_ = now; }
 
  private:
+  // The baseline and the root for the rig the person's avatar wears (the site's, or their own
+  // once it arrived, docs/avatars.md); a hold being measured ends with the avatar it was on.
+  void dress(const ik::AvatarSolver& solver) {
+    solver_ = &solver;
+    origin_ = presence::avatar_origin(solver, a_.site.remote_avatar.T_world_floor());
+    copy_.emplace(body_, origin_, solver.rig.height);
+    observer_.interrupt();
+  }
+
   const SiteAssets& a_;
   SiteRecord& record_;
   const SitePeer* peer_;
+  BodyCalibration body_;
+  const ik::AvatarSolver* solver_ = nullptr;
+  Pose origin_;
   std::optional<presence::PoseCopy> copy_;
   eval::DeicticObserver observer_;
   TargetId last_target_ = kNoTarget;

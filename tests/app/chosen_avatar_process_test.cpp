@@ -13,6 +13,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -221,9 +222,10 @@ TEST(ChosenAvatarProcess, TheJoinerShowsTheHostInTheAvatarTheHostChose) {
   }
 }
 
-// The same through a room: a relay and two `deixis join --room`, A wearing the BCN rig. B shows A
-// in it; A shows B in the default.
-TEST(ChosenAvatarProcess, ARoomMemberSeesTheAvatarAnotherChose) {
+// The same through a room: a relay and three `deixis join --room`, A wearing the BCN rig. B shows
+// A in it and C in the default; C overrides (--remote-avatar <BCN>): everyone wears that there,
+// and C asks nobody for a file.
+TEST(ChosenAvatarProcess, ARoomMemberSeesTheAvatarAnotherChoseUnlessItOverrides) {
   const fs::path bcn = deixis::testing::bcn_glb();
   const std::string hash = net::to_hex(net::avatar_hash(read_bytes(bcn)));
   deixis::testing::ScratchDir dir;
@@ -238,6 +240,7 @@ TEST(ChosenAvatarProcess, ARoomMemberSeesTheAvatarAnotherChose) {
   };
   std::optional<Deixis> a;
   std::optional<Deixis> b;
+  std::optional<Deixis> c;
   {
     const ScopedCacheHome cache(dir.path() / "cache-A");
     a.emplace(member("A", "a.json", "10") + std::vector<std::string>{"--avatar", bcn.string()});
@@ -246,21 +249,45 @@ TEST(ChosenAvatarProcess, ARoomMemberSeesTheAvatarAnotherChose) {
     const ScopedCacheHome cache(dir.path() / "cache-B");
     b.emplace(member("B", "b.json", "8"));
   }
+  {
+    const ScopedCacheHome cache(dir.path() / "cache-C");
+    c.emplace(member("C", "c.json", "8") +
+              std::vector<std::string>{"--remote-avatar", bcn.string()});
+  }
   ASSERT_EQ(b->wait(), 0) << b->err();
+  ASSERT_EQ(c->wait(), 0) << c->err();
   ASSERT_EQ(a->wait(), 0) << a->err();
   relay.send_signal(SIGTERM);
   EXPECT_EQ(relay.wait(), 0) << relay.err();
 
-  const json at_b = read_json(dir.path() / "B" / "session.json");
-  ASSERT_EQ(at_b["people"].size(), 1u) << at_b.dump(2);
-  EXPECT_EQ(at_b["people"][0]["site"], "A");
-  EXPECT_EQ(at_b["people"][0]["avatar"]["source"], "chosen") << at_b.dump(2) << b->err();
-  EXPECT_EQ(at_b["people"][0]["avatar"]["hash"], hash);
-  EXPECT_EQ(at_b["people"][0]["avatar"]["joints"].get<int>(), kBcnJoints);
+  // Each site's people by site name: what they wore there.
+  const auto worn = [&](const char* at) {
+    std::map<std::string, json> out;
+    const json s = read_json(dir.path() / at / "session.json");
+    for (const json& p : s["people"]) {
+      out[p["site"].get<std::string>()] = p["avatar"];
+    }
+    return out;
+  };
+  const auto at_b = worn("B");
+  ASSERT_EQ(at_b.size(), 2u);
+  EXPECT_EQ(at_b.at("A")["source"], "chosen") << b->err();
+  EXPECT_EQ(at_b.at("A")["hash"], hash);
+  EXPECT_EQ(at_b.at("A")["joints"].get<int>(), kBcnJoints);
+  EXPECT_EQ(at_b.at("C")["source"], "default");
   EXPECT_TRUE(fs::exists(dir.path() / "cache-B" / "deixis" / "avatars" / (hash + ".glb")));
-  const json at_a = read_json(dir.path() / "A" / "session.json");
-  ASSERT_EQ(at_a["people"].size(), 1u) << at_a.dump(2);
-  EXPECT_EQ(at_a["people"][0]["avatar"]["source"], "default");
+  const auto at_c = worn("C");
+  ASSERT_EQ(at_c.size(), 2u);
+  for (const char* who : {"A", "B"}) {
+    SCOPED_TRACE(who);
+    EXPECT_EQ(at_c.at(who)["source"], "override");
+    EXPECT_EQ(at_c.at(who)["joints"].get<int>(), kBcnJoints);
+  }
+  EXPECT_FALSE(fs::exists(dir.path() / "cache-C" / "deixis" / "avatars")) << "C asked for a file";
+  const auto at_a = worn("A");
+  ASSERT_EQ(at_a.size(), 2u);
+  EXPECT_EQ(at_a.at("B")["source"], "default");
+  EXPECT_EQ(at_a.at("C")["source"], "default");
 }
 
 // A chosen file that is no avatar is refused before connecting: exit 2 naming it (nobody listens
