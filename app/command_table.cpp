@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -126,22 +127,48 @@ void add_passphrase_flags(CLI::App* cmd, PassphraseFlags& f, bool hosts,
   }
 }
 
+// A room's name as the relay takes it (docs/relay.md).
+CLI::Validator room_name() {
+  return CLI::Validator(
+      [](std::string& name) -> std::string {
+        return !name.empty() && name.size() <= 64 && is_wire_text(name)
+                   ? std::string()
+                   : "a room name is 1 to 64 bytes of UTF-8 without control characters";
+      },
+      "NAME");
+}
+
 // A live user's site on the network (`deixis xr`, `deixis sim`): --host, or --join HOST:PORT,
-// with --port/--bind for a host, the passphrase flags and --wait. `Options` has network, host,
-// address, port and wait. Returns --host and --join, for flags that exclude networking.
+// with --port/--bind for a host, or --connect HOST:PORT --room NAME (a room on a relay, as
+// `deixis join --room`), the passphrase flags and --wait. `Options` has network, host, address,
+// port, room and wait. Returns --host, --join and --connect, for flags that exclude networking.
 template <class Options>
-std::array<CLI::Option*, 2> add_network_flags(CLI::App* cmd, Options& o, PassphraseFlags& pass,
+std::array<CLI::Option*, 3> add_network_flags(CLI::App* cmd, Options& o, PassphraseFlags& pass,
                                               const std::string& host_help) {
   CLI::Option* host = cmd->add_flag(
       "--host", [&o](std::int64_t) { o.network = o.host = true; }, host_help);
-  CLI::Option* join = add_endpoint_option(
-                          cmd, "--join", o.address, o.port,
-                          [&o] {
-                            o.network = true;
-                            o.host = false;
-                          },
-                          "Join the host at HOST:PORT")
-                          ->excludes(host);
+  const auto joins = [&o] {
+    o.network = true;
+    o.host = false;
+  };
+  CLI::Option* join =
+      add_endpoint_option(cmd, "--join", o.address, o.port, joins, "Join the host at HOST:PORT")
+          ->excludes(host);
+  CLI::Option* connect = add_endpoint_option(cmd, "--connect", o.address, o.port, joins,
+                                             "With --room: the relay (`deixis relay`), HOST:PORT")
+                             ->excludes(host)
+                             ->excludes(join);
+  CLI::Option* room = cmd->add_option("--room", o.room,
+                                      "Enter the room NAME on the relay --connect names, as "
+                                      "`deixis join --room` does: everyone else in it is an "
+                                      "avatar on this site's spots, and a target. Everyone in a "
+                                      "room gives the same passphrase; without one the room is "
+                                      "open, and readable by the relay's operator")
+                          ->check(room_name())
+                          ->needs(connect)
+                          ->excludes(host)
+                          ->excludes(join);
+  connect->needs(room);
   cmd->add_option("--port", o.port, "With --host: UDP port (0: any free port)")
       ->capture_default_str()
       ->needs(host);
@@ -150,11 +177,29 @@ std::array<CLI::Option*, 2> add_network_flags(CLI::App* cmd, Options& o, Passphr
                   "--open)")
       ->capture_default_str()
       ->needs(host);
-  add_passphrase_flags(cmd, pass, true, host);
-  cmd->add_option("--wait", o.wait, "Seconds to wait for the other site")
+  // --open: with --host (a host beyond loopback) or --room (an open room through a relay beyond
+  // loopback); checked by live_session_ready, as CLI11 cannot say "one of two".
+  add_passphrase_flags(cmd, pass, true);
+  cmd->add_option("--wait", o.wait, "Seconds to wait for the other site, or to enter the room")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 3600.0));
-  return {host, join};
+  return {host, join, connect};
+}
+
+// Before a live user's site (sim, xr) starts: the passphrase read, --open only where it means
+// something, a host beyond loopback and an open room beyond loopback allowed only with --open
+// (site/endpoint.h). False after saying why on stderr: the command exits 2.
+template <class Options>
+bool live_session_ready(const char* command, PassphraseFlags& pass, Options& o) {
+  const PassphraseInput& input = pass.given();
+  if (input.open && !(o.network && (o.host || !o.room.empty()))) {
+    std::fprintf(stderr, "deixis %s: --open needs --host, or --connect with --room\n", command);
+    return false;
+  }
+  if (!prepare_session(command, input, o.network && o.host, o.address, o.passphrase)) {
+    return false;
+  }
+  return o.room.empty() || may_enter_room(input, o.address, o.passphrase, command);
 }
 
 // A command's options with its passphrase flags, kept alive by its runner.
@@ -475,9 +520,11 @@ void add_xr(CLI::App& program, const Invocation&, std::vector<Runner>& runners) 
       "xr",
       "The headset user's side through OpenXR (the runtime the loader finds, or XR_RUNTIME_JSON): "
       "both eyes see this site's room and the remote person's avatar. With --host or --join the "
-      "site meets another (deixis host/join/xr): the headset user, calibrated standing upright "
-      "at the start, is tracked out with the targets they look and point at, and the other "
-      "site's person comes in as a translated avatar. Without, the remote person is "
+      "site meets another (deixis host/join/xr); with --connect and --room it enters a room of "
+      "several people on a relay (deixis relay): the headset user, calibrated standing upright "
+      "at the start, is tracked out with the targets they look and point at (objects and "
+      "people), and every other person comes in as a translated avatar. Without, the remote "
+      "person is "
       "--remote-site's scripted virtual user, performed locally. Prints the runtime, then "
       "frames, tracking and network counts; exit 1 if OpenXR or the session fails, 2 for bad "
       "flags or files");
@@ -507,8 +554,7 @@ void add_xr(CLI::App& program, const Invocation&, std::vector<Runner>& runners) 
       ->check(CLI::Range(1.0, 2.3));
   runners.push_back({cmd, [xr] {
                        XrRunOptions& r = xr->options;
-                       if (!prepare_session("xr", xr->pass.given(), r.network && r.host, r.address,
-                                            r.passphrase)) {
+                       if (!live_session_ready("xr", xr->pass, r)) {
                          return 2;
                        }
                        return run_xr(r);
@@ -528,8 +574,9 @@ void add_sim(CLI::App& program, const Invocation&, std::vector<Runner>& runners)
       "driven by mouse and keys (right-drag looks, click points, shift-click touches, E "
       "explains, R rests, P looks at the other person) or by the site's script, and the remote "
       "room (site B) with the avatar translated from the user's tracking; drag B's objects and "
-      "the avatar adapts. Both sites in this process. Exit 0 when closed or done, 1 if the "
-      "window or OpenGL fails, 2 for bad flags or files");
+      "the avatar adapts. Both sites in this process. With --host/--join the user meets another "
+      "site; with --connect and --room, everyone in a room on a relay. Exit 0 when closed or "
+      "done, 1 if the window, OpenGL or the session fails, 2 for bad flags or files");
   cmd->add_option("--site-a", o.site_a, "The user's site (its room and subject)")
       ->capture_default_str()
       ->check(CLI::ExistingFile);
@@ -578,8 +625,7 @@ void add_sim(CLI::App& program, const Invocation&, std::vector<Runner>& runners)
   }
   runners.push_back({cmd, [sim] {
                        sim::SimOptions& r = sim->options;
-                       if (!prepare_session("sim", sim->pass.given(), r.network && r.host,
-                                            r.address, r.passphrase)) {
+                       if (!live_session_ready("sim", sim->pass, r)) {
                          return 2;
                        }
                        return sim::run_sim(r);

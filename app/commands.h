@@ -143,8 +143,9 @@ struct XrRunOptions {
   bool headless = false;  // XR_MND_headless: no rendering (tests, runtimes without GL)
   bool network = false;   // host or join instead of the local remote person
   bool host = true;
-  std::string address = "127.0.0.1";  // host: where to listen (--bind); join: the host
+  std::string address = "127.0.0.1";  // host: where to listen (--bind); join: the host or relay
   std::uint16_t port = 7350;          // host: 0 picks a free one (printed as "port N")
+  std::string room;  // a room on the relay at address:port (--connect --room); empty: direct
   std::string passphrase;
   double wait = 30.0;
   std::string hand = "right";  // the headset user's deictic hand

@@ -113,18 +113,18 @@ bool prepare_session(const char* command, const PassphraseInput& input, bool hos
 }
 
 bool may_enter_room(const PassphraseInput& input, const std::string& relay,
-                    const std::string& passphrase) {
+                    const std::string& passphrase, const char* command) {
   site::allow_open_sessions(input.open);
   const std::string problem = site::open_room_problem(relay, !passphrase.empty());
   if (!problem.empty()) {
-    std::fprintf(stderr, "deixis join: %s\n", problem.c_str());
+    std::fprintf(stderr, "deixis %s: %s\n", command, problem.c_str());
     return false;
   }
   if (passphrase.empty() && !site::binds_loopback_only(relay)) {
     std::fprintf(stderr,
-                 "deixis join: warning: an open room (--open, no passphrase) through the relay at "
+                 "deixis %s: warning: an open room (--open, no passphrase) through the relay at "
                  "%s: its operator and anyone on the path can read this site's motion\n",
-                 relay.c_str());
+                 command, relay.c_str());
   }
   return true;
 }

@@ -55,10 +55,10 @@ struct PassphraseInput {
 bool prepare_session(const char* command, const PassphraseInput& input, bool hosting,
                      const std::string& address, std::string& passphrase);
 
-// Before `deixis join --room` enters a room through the relay at `relay`: an open room (no
-// passphrase) beyond loopback needs --open, and is announced with a warning. False after saying
-// why on stderr: the command exits 2.
+// Before `deixis join --room` (or sim/xr, `command`) enters a room through the relay at `relay`:
+// an open room (no passphrase) beyond loopback needs --open, and is announced with a warning.
+// False after saying why on stderr: the command exits 2.
 bool may_enter_room(const PassphraseInput& input, const std::string& relay,
-                    const std::string& passphrase);
+                    const std::string& passphrase, const char* command = "join");
 
 }  // namespace deixis::app

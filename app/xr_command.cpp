@@ -1,14 +1,18 @@
 // `deixis xr`: the headset user's side through OpenXR (docs/xr.md). Each frame the headset
 // user's tracking is read from the runtime and both eyes see this room, its objects and the
-// remote person's avatar. The remote person is either another site (--host / --join: the user's
-// tracking goes out at 30 Hz with targets selected from it, site/site_peer.h) or, without a
-// network, the other site's scripted virtual user performed locally; either way
-// presence::RemoteAvatar translates them into this room at 30 Hz of display time.
+// remote people's avatars. The remote person is either another site (--host / --join: the user's
+// tracking goes out at 30 Hz with targets selected from it), everyone else in a room on a relay
+// (--connect --room: each on one of this site's avatar spots, and each a target), both through
+// site::LivePeer (site/live_peer.h), or, without a network, the other site's scripted virtual
+// user performed locally; either way presence::RemoteAvatar translates them into this room at
+// 30 Hz of display time.
 
 #include <cstdio>
 #include <exception>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "app/commands.h"
 #include "avatar/avatar_loader.h"
@@ -23,9 +27,9 @@
 #include "presence/remote_avatar.h"
 #include "render/headless_context.h"
 #include "render/renderer.h"
+#include "site/live_peer.h"
 #include "site/moe_weights.h"
 #include "site/site_config.h"
-#include "site/site_peer.h"
 #include "site/site_session.h"
 #include "xr/frame_loop.h"
 #include "xr/gl_session.h"
@@ -72,19 +76,21 @@ struct LocalRemote {
 
 // What a networked headset site needs to meet the other site once its user is calibrated.
 struct NetworkSetup {
-  site::SitePeerOptions options;
+  site::LivePeerOptions options;
   UprightBody body;
   const std::array<Networks, 2>* networks = nullptr;
   const ik::AvatarSolver* solver = nullptr;
 };
 
 // Joins the OpenXR frame loop to the translator and the renderer; allocates nothing per frame
-// once the remote person is there (meeting them builds their avatar once).
+// once the remote people are there (meeting one builds their avatar once).
 class XrSink final : public xr::FrameSink {
  public:
   XrSink(const site::SiteConfig& site, render::Renderer& renderer, render::SkinnedMeshId mesh,
          const Vec3& remote_head_at_rest)
-      : site_(site), renderer_(renderer), mesh_(mesh), remote_head_(remote_head_at_rest) {}
+      : site_(site), renderer_(renderer), mesh_(mesh), remote_head_(remote_head_at_rest) {
+    avatars_.reserve(site.spots.size());  // one per spot: every remote person at once
+  }
 
   void use_local(const LocalRemote& local) { local_.emplace(local); }
   void use_network(const NetworkSetup& setup) { network_ = setup; }
@@ -111,20 +117,31 @@ class XrSink final : public xr::FrameSink {
                    const render::RenderTarget& target) override {
     render::SceneView view;
     view.camera = camera;
-    if (const presence::RemoteAvatar* avatar = shown_avatar()) {
-      avatars_[0] = {mesh_, avatar->T_world_model(), avatar->model_pose()};
-      view.avatars = avatars_;
+    avatars_.clear();
+    for (const presence::RemoteAvatar* avatar : shown_avatars()) {
+      if (avatars_.size() < avatars_.capacity()) {
+        avatars_.push_back({mesh_, avatar->T_world_model(), avatar->model_pose()});
+      }
     }
+    view.avatars = avatars_;
     renderer_.render(view, target);
   }
 
   bool wants_exit() const override { return failed_; }
   const std::string& error() const { return error_; }
 
+  // Says bye; who was there at the end is kept for the summary.
   void close(double now) {
-    if (peer_) {
-      peer_->close(now);
+    if (!peer_) {
+      return;
     }
+    std::array<site::LivePerson, 16> people;
+    const std::size_t n = peer_->list_people(people);
+    for (std::size_t k = 0; k < n; ++k) {
+      people_.push_back(
+          {std::string(people[k].site), people[k].frames_played, people[k].visible_ticks});
+    }
+    peer_->close(now);
   }
 
   void print_summary(const xr::FrameLoopResult& r) const {
@@ -139,11 +156,16 @@ class XrSink final : public xr::FrameSink {
         static_cast<unsigned long long>(valid_counts_[2]),
         static_cast<unsigned long long>(valid_counts_[3]));
     if (peer_) {
-      const site::SitePeerStats& n = peer_->stats();
+      const site::LivePeerStats& n = peer_->stats();
       std::printf("network: site %s, tracking sent %llu, frames played %llu (%llu missed)\n",
                   n.peer_site.c_str(), static_cast<unsigned long long>(n.sent),
                   static_cast<unsigned long long>(n.played),
                   static_cast<unsigned long long>(n.missed));
+      for (const PersonLine& p : people_) {
+        std::printf("person %s: frames played %llu, visible in %llu ticks\n", p.site.c_str(),
+                    static_cast<unsigned long long>(p.frames_played),
+                    static_cast<unsigned long long>(p.visible_ticks));
+      }
     }
   }
 
@@ -177,18 +199,17 @@ class XrSink final : public xr::FrameSink {
       meet(user, frame.seconds);
     }
     while (static_cast<double>(ticks_) * kTick <= frame.seconds) {
-      // The user designates what they look and point at in this room; the other person is
-      // where their avatar's eyes are.
+      // The user designates what they look and point at in this room; the other person (in a
+      // room: everyone) is where their avatar's eyes are.
       TrackingFrame out = user;
-      const presence::RemoteAvatar* avatar = peer_->visible_avatar();
-      selector_.select(out, site_.target_map,
-                       avatar != nullptr ? avatar->eye_midpoint() : remote_head_);
+      selector_.select(out, peer_->candidates(site_.target_map, user_head_, remote_head_));
       const LocalTargets room{&site_.target_map, user_head_};
       // Stamped with its sampling time (display time on the wall clock), not with when this
       // frame's loop got to it: a late frame catching up on several ticks must not send them
       // bunched together, or the other site's jitter buffer plays them as a jerk.
-      peer_->tick(out, wall_at_first_frame_ + static_cast<double>(ticks_) * kTick, room);
-      visible_ticks_ += peer_->visible_avatar() != nullptr ? 1 : 0;
+      const double sampled = wall_at_first_frame_ + static_cast<double>(ticks_) * kTick;
+      peer_->tick(out, sampled, sampled, room);
+      visible_ticks_ += peer_->visible().empty() ? 0 : 1;
       ++ticks_;
     }
   }
@@ -204,18 +225,25 @@ class XrSink final : public xr::FrameSink {
                 calibration.deictic_hand == Hand::kLeft ? "left" : "right");
     peer_.emplace(network_->options, site_, calibration, *network_->networks, *network_->solver,
                   clock_.now());
-    if (network_->options.role == net::Role::kHost) {
+    if (peer_->port() != 0) {  // a host
       std::printf("port %u\n", static_cast<unsigned>(peer_->port()));
     }
     std::fflush(stdout);
   }
 
-  const presence::RemoteAvatar* shown_avatar() const {
+  std::span<const presence::RemoteAvatar* const> shown_avatars() {
     if (peer_) {
-      return peer_->visible_avatar();
+      return peer_->visible();
     }
-    return local_ && local_->avatar.visible() ? &local_->avatar : nullptr;
+    local_shown_ = local_ && local_->avatar.visible() ? &local_->avatar : nullptr;
+    return local_shown_ != nullptr ? std::span(&local_shown_, 1)
+                                   : std::span<const presence::RemoteAvatar* const>();
   }
+
+  struct PersonLine {
+    std::string site;
+    std::uint64_t frames_played = 0, visible_ticks = 0;
+  };
 
   const site::SiteConfig& site_;
   render::Renderer& renderer_;
@@ -223,11 +251,13 @@ class XrSink final : public xr::FrameSink {
   Vec3 remote_head_;
   std::optional<LocalRemote> local_;
   std::optional<NetworkSetup> network_;
-  std::optional<site::SitePeer> peer_;
+  std::optional<site::LivePeer> peer_;
+  std::vector<PersonLine> people_;  // who was there when the session closed
+  const presence::RemoteAvatar* local_shown_ = nullptr;
   TargetSelector selector_;
   site::SiteClock clock_;
-  double wall_at_first_frame_ = 0.0;  // the wall clock at display time 0
-  std::array<render::AvatarDraw, 1> avatars_;
+  double wall_at_first_frame_ = 0.0;         // the wall clock at display time 0
+  std::vector<render::AvatarDraw> avatars_;  // this view's, one per spot at most
   Vec3 user_head_ = Vec3(0, 1.6f, 0);
   std::uint64_t ticks_ = 0;
   std::uint64_t visible_ticks_ = 0;
@@ -287,10 +317,10 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   if (local_avatar) {
     sink.use_local({*a.remote, *local_avatar});
   } else {
-    site::SitePeerOptions peer{o.host ? net::Role::kHost : net::Role::kJoiner, o.address, o.port,
-                               o.passphrase, o.wait};
-    sink.use_network({peer, UprightBody{o.hand == "left" ? Hand::kLeft : Hand::kRight, o.height, 0},
-                      &a.networks, &a.solver});
+    sink.use_network(
+        {site::live_peer_options(o.host, o.address, o.port, o.room, o.passphrase, o.wait),
+         UprightBody{o.hand == "left" ? Hand::kLeft : Hand::kRight, o.height, 0}, &a.networks,
+         &a.solver});
   }
   xr::FrameLoopOptions options;
   options.seconds = o.seconds;

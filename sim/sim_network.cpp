@@ -1,19 +1,41 @@
 #include "sim/sim_network.h"
 
 #include <cstdio>
+#include <tuple>
+#include <utility>
 
 #include "core/error.h"
 
 namespace deixis::sim {
 
-SimNetwork::SimNetwork(const site::SitePeerOptions& options, const site::SiteConfig& site,
+namespace {
+
+// Where the session goes: the host's address and port (the one to listen on for a host), or the
+// relay's for a room.
+std::pair<std::string_view, std::uint16_t> endpoint_of(const site::LivePeerOptions& options) {
+  if (const site::RoomPeerOptions* room = std::get_if<site::RoomPeerOptions>(&options)) {
+    return {room->relay_host, room->relay_port};
+  }
+  const site::SitePeerOptions& direct = std::get<site::SitePeerOptions>(options);
+  return {direct.address, direct.port};
+}
+
+bool hosts(const site::LivePeerOptions& options) {
+  const site::SitePeerOptions* direct = std::get_if<site::SitePeerOptions>(&options);
+  return direct != nullptr && direct->role == net::Role::kHost;
+}
+
+}  // namespace
+
+SimNetwork::SimNetwork(const site::LivePeerOptions& options, const site::SiteConfig& site,
                        const BodyCalibration& user,
                        const std::array<site::MoeNetworks, 2>& networks,
                        const ik::AvatarSolver& solver)
-    : options_(options), port_(options.port) {
+    : options_(options) {
+  std::tie(address_, port_) = endpoint_of(options_);
   try {
-    peer_.emplace(options, site, user, networks, solver, clock_.now());
-    if (options.role == net::Role::kHost) {
+    peer_.emplace(options_, site, user, networks, solver, clock_.now());
+    if (hosts(options_)) {
       port_ = peer_->port();  // the bound one (--port 0 picks it), shown after a failure too
       std::printf("port %u\n", static_cast<unsigned>(port_));
       std::fflush(stdout);
@@ -36,6 +58,7 @@ void SimNetwork::fail(const char* what) {
 void SimNetwork::end_session() {
   if (peer_) {
     stats_ = peer_->stats();  // shown and reported after the end
+    people_count_ = 0;        // their names lived in the runtime
     peer_.reset();
   }
 }
@@ -48,37 +71,47 @@ void SimNetwork::tick(const TrackingFrame& user, const LocalTargets& room, doubl
     wall_at_sim_zero_ = clock_.now() - sim_seconds;
   }
   try {
-    peer_->tick(user, wall_at_sim_zero_ + sim_seconds, room);
+    // Played as of the tick's own time, as it was sampled: ticks a slow frame catches up on each
+    // play what was due by then.
+    const double sampled = wall_at_sim_zero_ + sim_seconds;
+    peer_->tick(user, sampled, sampled, room);
+    people_count_ = peer_->list_people(people_);
   } catch (const Error& e) {
     fail(e.what());
   }
 }
 
-const presence::RemoteAvatar* SimNetwork::visible_avatar() const {
-  return peer_ ? peer_->visible_avatar() : nullptr;
+std::span<const presence::RemoteAvatar* const> SimNetwork::visible_avatars() const {
+  return peer_ ? peer_->visible() : std::span<const presence::RemoteAvatar* const>();
 }
 
-const site::SitePeerStats& SimNetwork::stats() const {
+const site::LivePeerStats& SimNetwork::stats() const {
   return peer_ ? peer_->stats() : stats_;
 }
 
 PanelNetwork SimNetwork::panel() const {
   PanelNetwork p;
-  const bool host = options_.role == net::Role::kHost;
-  p.role = host ? "host" : "join";
-  p.address = options_.address;
+  const site::RoomPeerOptions* room = std::get_if<site::RoomPeerOptions>(&options_);
+  p.role = room != nullptr ? "room" : hosts(options_) ? "host" : "join";
+  p.address = address_;
+  p.room = room != nullptr ? std::string_view(room->room) : std::string_view();
   p.port = port_;
-  p.passphrase = !options_.passphrase.empty();
-  const site::SitePeerStats& s = stats();
+  p.passphrase = room != nullptr ? !room->passphrase.empty()
+                                 : !std::get<site::SitePeerOptions>(options_).passphrase.empty();
+  const site::LivePeerStats& s = stats();
   p.peer_site = s.peer_site;
   p.sent = s.sent;
   p.played = s.played;
   p.failed = !error_.empty();
   p.running = running();
-  p.state = p.failed                      ? std::string_view(error_)
-            : left_                       ? std::string_view("left the session")
-            : peer_ && peer_->streaming() ? std::string_view("streaming")
-                                          : std::string_view("waiting for the other site");
+  p.people = people();
+  const bool connected = peer_ && peer_->connected();
+  p.state = p.failed     ? std::string_view(error_)
+            : left_      ? std::string_view(room != nullptr ? "left the room" : "left the session")
+            : !connected ? std::string_view(room != nullptr ? "entering the room"
+                                                            : "waiting for the other site")
+            : room != nullptr ? std::string_view("in the room")
+                              : std::string_view("streaming");
   return p;
 }
 

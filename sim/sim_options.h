@@ -12,9 +12,9 @@ namespace deixis::sim {
 // its virtual user, driven by mouse and keys or by the site's script, and the remote room (site
 // B) with the avatar translated from the user's tracking; B's objects are dragged with the mouse.
 // Both sites run in this process; with `network` the simulator is site A of a real session
-// (host or join, as `deixis host`/`join`/`xr`): the user streams, the other site's person comes
-// in as an avatar in room A. Exit 0 when closed or done, 1 when the window, GL or the network
-// session fails (refused, nobody came), 2 for bad flags or files.
+// (host or join, as `deixis host`/`join`/`xr`), or a member of a room on a relay: the user
+// streams, the other sites' people come in as avatars in room A. Exit 0 when closed or done, 1 when
+// the window, GL or the network session fails (refused, nobody came), 2 for bad flags or files.
 struct SimOptions {
   std::filesystem::path site_a;
   std::filesystem::path site_b;
@@ -29,10 +29,13 @@ struct SimOptions {
   std::filesystem::path report;      // JSON: B's objects, the avatar's eye and fingertip, timings
   int width = 1280;
   int height = 720;
-  bool network = false;  // host or join another site
+  bool network = false;  // host or join another site, or enter a room
   bool host = true;
-  std::string address = "127.0.0.1";  // host: where to listen (--bind); join: the host
-  std::uint16_t port = 7350;          // host: 0 picks a free one (printed as "port N")
+  std::string address = "127.0.0.1";  // host: where to listen (--bind); join: the host or relay
+  // A room on the relay at address:port (--connect HOST:PORT --room NAME): every other member is
+  // an avatar on site A's spots (docs/sim.md, "In a room").
+  std::string room;
+  std::uint16_t port = 7350;  // host: 0 picks a free one (printed as "port N")
   std::string passphrase;
   double wait = 30.0;  // s for the other site to come
 };

@@ -13,21 +13,28 @@
 #include "sim/sim_history.h"
 #include "sim/sim_network_form.h"
 #include "sim/sim_views.h"
+#include "site/live_peer.h"
 
 namespace deixis::sim {
 
-// The network section when the simulator hosts or joins another site (sim/sim_network.h).
+// People listed in a room's network section, at most (a relay's default room holds 8).
+inline constexpr std::size_t kPanelPeople = 8;
+
+// The network section when the simulator hosts or joins another site, or is in a room
+// (sim/sim_network.h).
 struct PanelNetwork {
-  std::string_view role;     // "host" or "join"
-  std::string_view address;  // host: where it listens; joiner: the host
+  std::string_view role;     // "host", "join" or "room"
+  std::string_view address;  // host: where it listens; joiner: the host; room: the relay
   unsigned port = 0;         // host: the port bound (0 picks one, shown here)
   bool passphrase = false;   // set or not (never shown)
   std::string_view peer_site = "?";
   std::uint64_t sent = 0;    // tracking frames sent
   std::uint64_t played = 0;  // the other person's frames played into their avatar
-  std::string_view state;    // "waiting for the other site", "streaming", or the error
+  std::string_view state;  // "waiting for the other site", "streaming", "in the room", or the error
   bool failed = false;
-  bool running = false;  // false once it failed or was left: the form is shown again
+  bool running = false;   // false once it failed or was left: the form is shown again
+  std::string_view room;  // the room's name (role "room"; else empty)
+  std::span<const site::LivePerson> people;  // in a room: who is here now, live or not
 };
 
 // What the panel shows, read-only.

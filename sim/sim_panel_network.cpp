@@ -23,22 +23,41 @@ void line(std::string_view text, bool failed, PanelWidgets* widgets, std::string
   }
 }
 
+// A room's members: each one's site and whether their avatar is shown now.
+void room_people(const PanelNetwork& n, PanelWidgets* widgets) {
+  ImGui::TextWrapped("Room %.*s: tracking sent %llu, %zu here", static_cast<int>(n.room.size()),
+                     n.room.data(), static_cast<unsigned long long>(n.sent), n.people.size());
+  note(widgets, "network counts");
+  for (const site::LivePerson& p : n.people) {
+    ImGui::BulletText("%.*s: %s, %llu frames", static_cast<int>(p.site.size()), p.site.data(),
+                      p.live ? "live" : "not live",
+                      static_cast<unsigned long long>(p.frames_played));
+  }
+}
+
 // Role, address, who came and what flows, the state; Leave ends it (the form comes back).
 void session_state(const PanelNetwork& n, PanelActions& a, PanelWidgets* widgets) {
   ImGui::TextWrapped("Network: %.*s %.*s:%u, passphrase %s", static_cast<int>(n.role.size()),
                      n.role.data(), static_cast<int>(n.address.size()), n.address.data(), n.port,
                      n.passphrase ? "set" : "none");
   note(widgets, "network");
-  ImGui::TextWrapped("site %.*s: tracking sent %llu, frames played %llu",
-                     static_cast<int>(n.peer_site.size()), n.peer_site.data(),
-                     static_cast<unsigned long long>(n.sent),
-                     static_cast<unsigned long long>(n.played));
-  note(widgets, "network counts");
+  if (!n.room.empty()) {
+    room_people(n, widgets);
+  } else {
+    ImGui::TextWrapped("site %.*s: tracking sent %llu, frames played %llu",
+                       static_cast<int>(n.peer_site.size()), n.peer_site.data(),
+                       static_cast<unsigned long long>(n.sent),
+                       static_cast<unsigned long long>(n.played));
+    note(widgets, "network counts");
+  }
   a.leave_network = button("Leave", widgets);
   ImGui::SameLine();
   line(n.state, n.failed, widgets, "network state");
   ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-  ImGui::TextWrapped("Left: their person in room A. Right: room B translated here (a preview).");
+  ImGui::TextWrapped(
+      n.room.empty() ? "Left: their person in room A. Right: room B translated here (a preview)."
+                     : "Left: everyone in the room on A's spots. Right: room B translated here "
+                       "(a preview).");
   ImGui::PopStyleColor();
 }
 

@@ -6,7 +6,8 @@
 // With --host / --join, or from the panel's network form, the simulator is site A of a real
 // session (sim/sim_network.h): the user streams to the other site, whose person stands in the
 // left view where A's remote avatar does; the right view keeps the local translation into B as a
-// preview.
+// preview. With --connect --room it is a member of a room on a relay: everyone else in the room
+// stands on A's avatar spots in the left view, and the user may look and point at them.
 
 #include <chrono>
 #include <cstdio>
@@ -22,6 +23,7 @@
 #include "avatar/avatar_loader.h"
 #include "capture/virtual_user.h"
 #include "core/error.h"
+#include "core/script_step.h"
 #include "presence/pose_copy.h"
 #include "presence/remote_avatar.h"
 #include "render/image.h"
@@ -36,6 +38,7 @@
 #include "sim/sim_user.h"
 #include "sim/sim_views.h"
 #include "site/moe_weights.h"
+#include "site/remote_people.h"
 
 namespace deixis::sim {
 
@@ -109,8 +112,15 @@ SimAssets load_assets(const sim::SimOptions& o) {
       throw Error(o.site_a.string() + ": virtual_user: missing (--script plays it)");
     }
     const site::VirtualUser& v = *s.a.virtual_user;
+    // The k-th person the script names is aimed at where the avatar on spot k stands; each tick
+    // the target becomes whoever of that site is here (site/remote_people.h), as for host/join.
+    std::vector<capture::ScenePerson> people;
+    for (std::size_t k = 0; k < v.people.size(); ++k) {
+      people.push_back({v.people[k], script_person_target(k),
+                        site::expected_person_head(s.a, *s.user_solver, k)});
+    }
     const capture::VirtualUserScene scene{s.a.user.T_world_floor(), s.a.target_map.objects,
-                                          partner.translation};
+                                          partner.translation, people};
     try {
       s.script = capture::perform_script(capture::find_subject(v.subject), v.script, scene, v.seed,
                                          std::max(o.seconds, kScriptMinSeconds));
@@ -173,9 +183,12 @@ class Sim {
         presence::avatar_origin(remote_->solver, a.b.user.T_world_floor()).translation;
     edits_.network = initial_network_form(o);
     find_widget_ = [this](std::string_view label) { return widget_centre(label); };
+    // Room A's view draws the user's copy and everyone on its spots, each with a ray.
+    avatars_.reserve(1 + a.a.spots.size());
+    lines_.reserve(1 + a.a.spots.size());
     if (o.network) {
-      start_network(site::SitePeerOptions{o.host ? net::Role::kHost : net::Role::kJoiner, o.address,
-                                          o.port, o.passphrase, o.wait});
+      start_network(
+          site::live_peer_options(o.host, o.address, o.port, o.room, o.passphrase, o.wait));
     }
   }
 
@@ -203,10 +216,10 @@ class Sim {
   // from the panel switches time_ to it).
   bool fixed_step() const { return !o_.network && (o_.fixed_step || a_.input.has_value()); }
 
-  // A session, from the flags or the panel's form: the same site::SitePeer start, which never
-  // blocks (a host binds, a joiner sends its first packet; connecting is polled tick by tick). The
-  // other person wears A's avatar, as the user's copy does.
-  void start_network(const site::SitePeerOptions& options) {
+  // A session, from the flags or the panel's form: the same site::LivePeer start, which never
+  // blocks (a host binds, a joiner or room member sends its first packet; connecting is polled
+  // tick by tick). The other people wear A's avatar, as the user's copy does.
+  void start_network(const site::LivePeerOptions& options) {
     network_.reset();  // the last session, failed or left
     form_problem_.clear();
     network_.emplace(options, a_.a, a_.calibration, *a_.peer_networks, *a_.user_solver);
@@ -342,10 +355,16 @@ class Sim {
       user_frame_.time = tt;
       user_deictic_ = a_.script->sequence.labels[i][1];
     }
+    aim_at_people(user_frame_);
     user_copy_.solve(user_frame_);
     const LocalTargets room{&remote_map_, b_partner_head_};
     const Clock::time_point t0 = Clock::now();
-    remote_->remote.tick(&user_frame_, room);
+    // The preview in B has one person, B's user: whoever the user looks at is them.
+    TrackingFrame preview = user_frame_;
+    for (TargetId* target : {&preview.head_target, &preview.hand_target}) {
+      *target = is_person_target(*target) ? kPartnerTarget : *target;
+    }
+    remote_->remote.tick(&preview, room);
     const double took = ms_since(t0);
     history_.push_tick(remote_->remote.frame(), took);
     visible_ticks_ += remote_->remote.visible() ? 1 : 0;
@@ -358,44 +377,68 @@ class Sim {
     ++ticks_;
   }
 
+  // In a room the user's "other person" (where A's first avatar spot is, which the live user and
+  // a script's target 0 look at) is whoever stands on that spot; people a script names by site
+  // are whoever of that site is here (site/remote_people.h).
+  void aim_at_people(TrackingFrame& frame) const {
+    const bool running = network_ && network_->running();
+    if (!running) {
+      // No one else is here: the person a script names is the local preview's, B's user.
+      for (TargetId* target : {&frame.head_target, &frame.hand_target}) {
+        *target = is_script_person_target(*target) ? kPartnerTarget : *target;
+      }
+      return;
+    }
+    if (a_.a.virtual_user && !a_.a.virtual_user->people.empty()) {
+      site::resolve_script_people(frame, a_.a.virtual_user->people, network_->people_here(),
+                                  !network_->in_room());
+    }
+    if (!network_->in_room()) {
+      return;
+    }
+    const PersonId first = network_->person_on_spot(0);
+    for (TargetId* target : {&frame.head_target, &frame.hand_target}) {
+      if (*target == kPartnerTarget && first != kNoPerson) {
+        *target = person_target(first);
+      }
+    }
+  }
+
   void draw(int window_height) {
-    // Room A: the user's copy, and the other site's person when networked.
-    std::array<render::AvatarDraw, 2> avatars{
-        render::AvatarDraw{user_mesh_, user_copy_.T_world_model(), user_copy_.model_pose()}};
-    std::array<render::DebugLine, 2> lines;
-    std::size_t avatar_count = 1;
-    std::size_t line_count = 0;
+    // Room A: the user's copy, and the other sites' people when networked.
+    avatars_.clear();  // capacity: the user and every spot, reserved at construction
+    lines_.clear();
+    avatars_.push_back({user_mesh_, user_copy_.T_world_model(), user_copy_.model_pose()});
     const TargetObject* user_target = a_.a.target_map.find(user_frame_.hand_target);
     if (user_target != nullptr && user_deictic_ > kRayShownAbove) {
       const EndEffectorPoses& e = user_copy_.targets().deictic;
-      lines[line_count++] = eye_ray(e.T_world_head.translation, e.index_tip, user_target->position);
+      lines_.push_back(eye_ray(e.T_world_head.translation, e.index_tip, user_target->position));
     }
-    if (const presence::RemoteAvatar* other = network_ ? network_->visible_avatar() : nullptr) {
-      add_avatar(*other, user_mesh_, a_.a.target_map, avatars[avatar_count++], lines, line_count);
+    if (network_) {
+      for (const presence::RemoteAvatar* other : network_->visible_avatars()) {
+        if (avatars_.size() < avatars_.capacity()) {
+          add_avatar(*other, user_mesh_, a_.a.target_map);
+        }
+      }
     }
-    local_.draw(std::span(avatars.data(), avatar_count), std::span(lines.data(), line_count),
-                window_height);
+    local_.draw(avatars_, lines_, window_height);
 
     // Room B: the user translated here.
-    avatar_count = 0;
-    line_count = 0;
+    avatars_.clear();
+    lines_.clear();
     if (remote_->remote.visible()) {
-      add_avatar(remote_->remote, remote_->mesh, remote_map_, avatars[avatar_count++], lines,
-                 line_count);
+      add_avatar(remote_->remote, remote_->mesh, remote_map_);
     }
-    remote_view_.draw(std::span(avatars.data(), avatar_count), std::span(lines.data(), line_count),
-                      window_height);
+    remote_view_.draw(avatars_, lines_, window_height);
   }
 
   // A translated avatar, with its eye–fingertip ray toward its room's copy while it points.
-  static void add_avatar(const presence::RemoteAvatar& avatar, render::SkinnedMeshId mesh,
-                         const TargetMap& room, render::AvatarDraw& draw,
-                         std::array<render::DebugLine, 2>& lines, std::size_t& line_count) {
-    draw = {mesh, avatar.T_world_model(), avatar.model_pose()};
+  void add_avatar(const presence::RemoteAvatar& avatar, render::SkinnedMeshId mesh,
+                  const TargetMap& room) {
+    avatars_.push_back({mesh, avatar.T_world_model(), avatar.model_pose()});
     const TargetObject* target = room.find(avatar.frame().hand_target);
     if (target != nullptr && avatar.frame().progression[1] > kRayShownAbove) {
-      lines[line_count++] =
-          eye_ray(avatar.eye_midpoint(), avatar.index_fingertip(), target->position);
+      lines_.push_back(eye_ray(avatar.eye_midpoint(), avatar.index_fingertip(), target->position));
     }
   }
 
@@ -403,6 +446,9 @@ class Sim {
     // What the session was at the end, before the bye ends it (its avatar still visible).
     const nlohmann::json network = network_json();
     if (network_) {
+      for (const site::LivePerson& p : network_->people()) {
+        network_people_.push_back({std::string(p.site), p.live, p.frames_played, p.visible_ticks});
+      }
       network_->close();
     }
     const auto quantiles = [](const Ring& r) {
@@ -469,13 +515,18 @@ class Sim {
     if (!network_) {
       return 0;
     }
-    const site::SitePeerStats& n = network_->stats();
+    const site::LivePeerStats& n = network_->stats();
     std::printf(
         "network: site %s, tracking sent %llu, frames played %llu (%llu missed), their avatar "
         "visible in %llu ticks\n",
         n.peer_site.c_str(), static_cast<unsigned long long>(n.sent),
         static_cast<unsigned long long>(n.played), static_cast<unsigned long long>(n.missed),
         static_cast<unsigned long long>(n.visible_ticks));
+    for (const PersonLine& p : network_people_) {
+      std::printf("person %s: frames played %llu, visible in %llu ticks, %s\n", p.site.c_str(),
+                  static_cast<unsigned long long>(p.frames_played),
+                  static_cast<unsigned long long>(p.visible_ticks), p.live ? "live" : "not live");
+    }
     return network_->error().empty() ? 0 : 1;
   }
 
@@ -483,16 +534,24 @@ class Sim {
     if (!network_) {
       return {{"role", "local"}};
     }
-    const site::SitePeerStats& n = network_->stats();
-    const presence::RemoteAvatar* other = network_->visible_avatar();
+    const site::LivePeerStats& n = network_->stats();
+    nlohmann::json people = nlohmann::json::array();
+    for (const site::LivePerson& p : network_->people()) {
+      people.push_back({{"site", p.site},
+                        {"live", p.live},
+                        {"frames_played", p.frames_played},
+                        {"visible_ticks", p.visible_ticks}});
+    }
     return {{"role", network_panel_.role},
+            {"room", network_panel_.room},
             {"port", network_panel_.port},
             {"peer_site", n.peer_site},
             {"sent", n.sent},
             {"played", n.played},
             {"missed", n.missed},
             {"visible_ticks", n.visible_ticks},
-            {"visible", other != nullptr},
+            {"visible", !network_->visible_avatars().empty()},
+            {"people", people},
             {"state", network_panel_.state},
             {"error", network_->error()}};
   }
@@ -519,6 +578,14 @@ class Sim {
   PanelWidgets widgets_;               // where the last frame drew the panel's widgets
   FindWidget find_widget_;             // widget_centre, for scripted clicks at a widget
   SimTime time_;                       // fixed steps when scripted, else (or once networked) wall
+  std::vector<render::AvatarDraw> avatars_;  // this frame's avatars in one view
+  std::vector<render::DebugLine> lines_;     // and their rays
+  struct PersonLine {
+    std::string site;
+    bool live = false;
+    std::uint64_t frames_played = 0, visible_ticks = 0;
+  };
+  std::vector<PersonLine> network_people_;  // who was there at the end (printed)
   TrackingFrame user_frame_;
   float user_deictic_ = 0.0f;
   std::uint64_t frames_ = 0;

@@ -16,11 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/deixis_child.h"
-#include "render/image.h"
-#include "render/render_fixtures.h"
-#include "render/xvfb_server.h"
-#include "sim/sim_views.h"
-#include "site/site_config.h"
+#include "sim/sim_window_fixture.h"
 #include "test_support.h"
 
 namespace deixis::app {
@@ -28,22 +24,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
-using render::testing::Rgb;
+using sim::testing::display;
+using sim::testing::read_json;
 
 constexpr int kWidth = 640;  // the simulator's window
 constexpr int kHeight = 480;
-
-// One private X server for the test program; the simulators it starts inherit its DISPLAY.
-const render::testing::XvfbServer& display() {
-  static render::testing::XvfbServer server;
-  return server;
-}
-
-json read_json(const fs::path& path) {
-  std::ifstream in(path);
-  EXPECT_TRUE(in.good()) << path;
-  return in ? json::parse(in) : json();
-}
 
 class SimNetworkTest : public ::testing::Test {
  protected:
@@ -129,28 +114,10 @@ class SimNetworkTest : public ::testing::Test {
   }
   fs::path shot() const { return dir_.path() / "shot.png"; }
 
-  // Pixels of the default avatar's dark blue shirt around the chest of whoever stands where
-  // site A's remote avatar does, in room A's view (the floor and sky there are a pale grey-blue,
-  // blue less than 1.4 times red; the user's own copy stands well to the left).
+  // Pixels of the default avatar's shirt at the chest of whoever stands where site A's remote
+  // avatar does (its first spot), in room A's view; the user's own copy stands well to the left.
   int shirt_at_a_remote_avatar() const {
-    const site::SiteConfig a = site::read_site_config(site("a.json"));
-    const sim::SimLayout layout = sim::sim_layout(kWidth, kHeight);
-    const render::Camera camera =
-        site::site_camera(a.camera, layout.local.width, layout.local.height);
-    const Vec3 chest = a.remote_avatar.floor + Vec3(0, 1.25f, 0);
-    const auto at =
-        render::project_to_pixel(camera, layout.local.width, layout.local.height, chest);
-    EXPECT_TRUE(at.has_value());
-    if (!at) {
-      return -1;
-    }
-    const int x = layout.local.x + static_cast<int>(at->x());
-    const int y = layout.local.y + static_cast<int>(at->y());
-    EXPECT_TRUE(layout.local.contains(render::Vec2(x, y)));
-    const render::Image image = render::read_png(shot());
-    EXPECT_EQ(image.width, kWidth);
-    const auto shirt = [](const Rgb& p) { return p[2] > 2 * p[0] && p[2] > p[1] + 20; };
-    return render::testing::count_pixels(image, {x - 4, y - 4, x + 5, y + 5}, shirt);
+    return sim::testing::shirt_on_spot(site("a.json"), 0, shot(), kWidth, kHeight);
   }
 
   deixis::testing::ScratchDir dir_;

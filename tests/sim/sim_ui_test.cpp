@@ -205,8 +205,8 @@ TEST_F(SimPanelTest, TheNetworkSectionIsAFormUntilASessionRuns) {
   EXPECT_TRUE(click("Start").start_network);
 
   // Running: role, address, counts and the state, Leave; no form.
-  const PanelNetwork running{"join", "127.0.0.1", 7350,        true,  "B",
-                             120,    118,         "streaming", false, true};
+  const PanelNetwork running{"join", "127.0.0.1", 7350,  true, "B", 120,
+                             118,    "streaming", false, true, "",  {}};
   status_.network = &running;
   frame();
   frame();
@@ -216,10 +216,25 @@ TEST_F(SimPanelTest, TheNetworkSectionIsAFormUntilASessionRuns) {
   EXPECT_EQ(count(*widgets_.find("network state"), red), 0);
   EXPECT_TRUE(click("Leave").leave_network);
 
+  // In a room: its name and who is here, live or not, instead of one site's counts; Leave.
+  const std::array<site::LivePerson, 2> people{site::LivePerson{"B", true, 90, 88},
+                                               site::LivePerson{"C", false, 12, 10}};
+  PanelNetwork room = running;
+  room.role = "room";
+  room.room = "meeting";
+  room.state = "in the room";
+  room.people = people;
+  status_.network = &room;
+  frame();
+  frame();
+  expect_drawn({"network", "network counts", "network state", "Leave"});
+  EXPECT_EQ(widgets_.find("Start"), nullptr);
+  EXPECT_TRUE(click("Leave").leave_network);
+
   // Ended by a failure: the form again, to try again, and the error under it in red.
   const PanelNetwork failed{
       "join", "127.0.0.1", 7350, true, "B", 0, 0, "the host refused this site: wrong passphrase",
-      true,   false};
+      true,   false,       "",   {}};
   status_.network = &failed;
   frame();
   frame();

@@ -1,0 +1,183 @@
+#include "site/live_peer.h"
+
+#include <algorithm>
+
+namespace deixis::site {
+
+namespace {
+
+using Peer = std::variant<SitePeer, RoomPeer>;
+
+// Neither runtime moves (they own sockets and are pointed at), so the variant is built in place
+// and returned as a prvalue (no move needed).
+Peer make_peer(const LivePeerOptions& options, const SiteConfig& site, const BodyCalibration& user,
+               const std::array<MoeNetworks, 2>& networks, const ik::AvatarSolver& solver,
+               double now) {
+  if (const RoomPeerOptions* room = std::get_if<RoomPeerOptions>(&options)) {
+    return Peer(std::in_place_type<RoomPeer>, *room, site, user, networks, solver, now);
+  }
+  return Peer(std::in_place_type<SitePeer>, std::get<SitePeerOptions>(options), site, user,
+              networks, solver, now);
+}
+
+constexpr std::size_t kSitesReserved = 256;  // bytes: "B,C,…" for a full room without allocating
+
+}  // namespace
+
+LivePeerOptions live_peer_options(bool host, const std::string& address, std::uint16_t port,
+                                  const std::string& room, const std::string& passphrase,
+                                  double wait) {
+  if (!room.empty()) {
+    RoomPeerOptions o;
+    o.relay_host = address;
+    o.relay_port = port;
+    o.room = room;
+    o.passphrase = passphrase;
+    o.wait = wait;
+    return o;
+  }
+  return SitePeerOptions{host ? net::Role::kHost : net::Role::kJoiner, address, port, passphrase,
+                         wait};
+}
+
+LivePeer::LivePeer(const LivePeerOptions& options, const SiteConfig& site,
+                   const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
+                   const ik::AvatarSolver& solver, double now)
+    : peer_(make_peer(options, site, user, networks, solver, now)),
+      host_(std::holds_alternative<SitePeerOptions>(options) &&
+            std::get<SitePeerOptions>(options).role == net::Role::kHost) {
+  stats_.peer_site.reserve(kSitesReserved);
+}
+
+std::uint16_t LivePeer::port() const {
+  const SitePeer* direct = std::get_if<SitePeer>(&peer_);
+  return direct != nullptr && host_ ? direct->port() : 0;
+}
+
+bool LivePeer::connected() const {
+  if (const SitePeer* direct = std::get_if<SitePeer>(&peer_)) {
+    return direct->streaming();
+  }
+  return std::get<RoomPeer>(peer_).in_room();
+}
+
+void LivePeer::tick(const TrackingFrame& user, double sampled, double now,
+                    const LocalTargets& room) {
+  std::visit([&](auto& peer) { peer.tick(user, sampled, now, room); }, peer_);
+  refresh();
+  stats_.visible_ticks += visible().empty() ? 0 : 1;
+}
+
+void LivePeer::poll(double now) {
+  std::visit([&](auto& peer) { peer.poll(now); }, peer_);
+  refresh();
+}
+
+void LivePeer::close(double now) {
+  if (closed_) {
+    return;
+  }
+  closed_ = true;
+  std::visit([&](auto& peer) { peer.close(now); }, peer_);
+}
+
+std::span<const presence::RemoteAvatar* const> LivePeer::visible() const {
+  if (const RoomPeer* room = std::get_if<RoomPeer>(&peer_)) {
+    return room->people().visible();
+  }
+  return direct_visible_ != nullptr ? std::span(&direct_visible_, 1)
+                                    : std::span<const presence::RemoteAvatar* const>();
+}
+
+const RemotePeople& LivePeer::people() const {
+  return std::visit([](const auto& peer) -> const RemotePeople& { return peer.people(); }, peer_);
+}
+
+SelectionCandidates LivePeer::candidates(const TargetMap& map, const Vec3& own_head,
+                                         const Vec3& partner_head) {
+  if (RoomPeer* room = std::get_if<RoomPeer>(&peer_)) {
+    // Nobody is "the other person" in a room: the people are candidates at their avatars' eyes.
+    return SelectionCandidates{&map, nullptr, room->people().people_targets(room->self(), own_head),
+                               room->self()};
+  }
+  partner_head_ = direct_visible_ != nullptr ? direct_visible_->eye_midpoint() : partner_head;
+  return SelectionCandidates{&map, &partner_head_, {}, kNoPerson};
+}
+
+std::size_t LivePeer::list_people(std::span<LivePerson> out) const {
+  const RemotePeople& people = this->people();
+  const std::span<const presence::RemoteAvatar* const> shown = visible();
+  std::size_t n = 0;
+  const auto add = [&](PersonId id) {
+    const PersonStats* s = people.stats(id);
+    if (s == nullptr || n == out.size()) {
+      return;
+    }
+    const presence::RemoteAvatar* avatar = people.avatar(id);
+    const bool live = std::find(shown.begin(), shown.end(), avatar) != shown.end();
+    out[n++] = LivePerson{s->site, live, s->frames_played, s->visible_ticks};
+  };
+  if (const RoomPeer* room = std::get_if<RoomPeer>(&peer_)) {
+    for (const net::MemberId id : room->session().people()) {
+      add(id);
+    }
+  } else {
+    add(SitePeer::kDirectPerson);
+  }
+  return n;
+}
+
+PersonId LivePeer::person_on_spot(std::size_t spot) const {
+  const RemotePeople& people = this->people();
+  const auto on_spot = [&](PersonId id) {
+    const PersonStats* s = people.stats(id);
+    return s != nullptr && s->spot == spot;
+  };
+  if (const RoomPeer* room = std::get_if<RoomPeer>(&peer_)) {
+    for (const net::MemberId id : room->session().people()) {
+      if (on_spot(id)) {
+        return id;
+      }
+    }
+    return kNoPerson;
+  }
+  return on_spot(SitePeer::kDirectPerson) ? SitePeer::kDirectPerson : kNoPerson;
+}
+
+void LivePeer::refresh() {
+  if (const SitePeer* direct = std::get_if<SitePeer>(&peer_)) {
+    direct_visible_ = direct->visible_avatar();
+    const SitePeerStats& s = direct->stats();
+    stats_.ticks = s.ticks;
+    stats_.sent = s.sent;
+    stats_.played = s.played;
+    stats_.missed = s.missed;
+    stats_.peer_site = s.peer_site;  // within the reserved capacity: no allocation
+    return;
+  }
+  const RoomPeer& room = std::get<RoomPeer>(peer_);
+  const RoomPeerStats& s = room.stats();
+  stats_.ticks = s.ticks;
+  stats_.sent = s.sent;
+  stats_.played = s.played;
+  stats_.missed = s.missed;
+  // Everyone here now, in arrival order; rebuilt only when someone came or went.
+  if (room.people().size() != sites_listed_) {
+    sites_listed_ = room.people().size();
+    std::string& sites = stats_.peer_site;
+    sites.clear();
+    for (const net::MemberId id : room.session().people()) {
+      if (const PersonStats* p = room.people().stats(id)) {
+        if (!sites.empty()) {
+          sites.push_back(',');
+        }
+        sites.append(p->site);
+      }
+    }
+    if (sites.empty()) {
+      sites.push_back('?');
+    }
+  }
+}
+
+}  // namespace deixis::site
