@@ -1,80 +1,18 @@
 // Rooms of several people with real processes (docs/relay.md, docs/rooms-protocol.md): a
 // `deixis relay` and three `deixis join --room` sites on 127.0.0.1, each in its own room (sites
 // a, b and c), each showing the other two people as avatars that follow them. Every wait is
-// bounded (deixis_child.h).
+// bounded (room_children.h).
 
 #include <gtest/gtest.h>
-#include <stdlib.h>
 
-#include <fstream>
+#include <algorithm>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <string>
 
-#include "app/deixis_child.h"
+#include "app/room_children.h"
 
 namespace deixis::app {
 namespace {
-
-using json = nlohmann::json;
-
-// A site that joins room `room` on the relay at `port`, for `seconds`, writing into `out`.
-std::vector<std::string> join_args(int port, const std::string& room, const char* site_file,
-                                   const std::filesystem::path& out, double seconds) {
-  return {"join",
-          "--connect",
-          "127.0.0.1:" + std::to_string(port),
-          "--room",
-          room,
-          "--site",
-          site(site_file).string(),
-          "--no-video",
-          "--seconds",
-          std::to_string(seconds),
-          "-o",
-          out.string(),
-          "--weights-dir",
-          weights_dir(),
-          "--wait",
-          "20"};
-}
-
-json session_of(const std::filesystem::path& out) {
-  std::ifstream in(out / "session.json");
-  EXPECT_TRUE(in) << (out / "session.json");
-  return in ? json::parse(in) : json();
-}
-
-// The people a session.json lists, by site name.
-std::map<std::string, json> people_of(const json& session) {
-  std::map<std::string, json> people;
-  if (session.contains("people")) {
-    for (const json& p : session["people"]) {
-      people[p["site"].get<std::string>()] = p;
-    }
-  }
-  return people;
-}
-
-// The passphrase reaches a site through DEIXIS_PASSPHRASE (never its command line); each child
-// inherits the value set when it starts.
-void set_passphrase(const char* passphrase) {
-  if (passphrase == nullptr) {
-    unsetenv("DEIXIS_PASSPHRASE");
-  } else {
-    setenv("DEIXIS_PASSPHRASE", passphrase, 1);
-  }
-}
-
-// Every site ends well, then the relay, on SIGTERM.
-void finish(Deixis& relay, std::initializer_list<Deixis*> sites) {
-  for (Deixis* site : sites) {
-    EXPECT_EQ(site->wait(), 0) << site->err();
-  }
-  set_passphrase(nullptr);
-  relay.send_signal(SIGTERM);
-  EXPECT_EQ(relay.wait(), 0) << relay.err();
-}
 
 // Three rooms meet; site c's link loses a fifth of its tracking on purpose. Everyone sees the two
 // others, frames flow from each, and only c's avatar misses frames.
