@@ -29,9 +29,10 @@ double seconds_since(Clock::time_point t) {
 }
 
 // A test-only site file: the demo's `base` (assets/sites) renamed `name`, its files found from
-// anywhere, and, if given, another script for its virtual user.
+// anywhere, and, if given, another script and capture subject for its virtual user.
 std::filesystem::path site_variant(const std::filesystem::path& dir, const char* base,
-                                   const std::string& name, const json& script = json()) {
+                                   const std::string& name, const json& script = json(),
+                                   const char* subject = nullptr) {
   json config;
   {
     std::ifstream in(site(base));
@@ -44,6 +45,9 @@ std::filesystem::path site_variant(const std::filesystem::path& dir, const char*
   avatar = (from / avatar.get<std::string>()).string();
   if (!script.is_null()) {
     config["virtual_user"]["script"] = script;
+  }
+  if (subject != nullptr) {
+    config["virtual_user"]["subject"] = subject;
   }
   const std::filesystem::path path = dir / (name + ".json");
   std::ofstream(path) << config.dump(2);
@@ -211,8 +215,9 @@ struct GazesAtY {
 // spots in a known order (the order it met them): at Z, X on the first spot and Y on the second;
 // at X, Z then Y, as X's script names them (the k-th person a script names is expected on spot
 // k). X's user looks at Z (long enough for Y to arrive), at Y, then at an object, over and over; Y
-// rests (its head keeps still).
-GazesAtY x_looks_at_y_seen_from_z(const char* z, const char* x, const char* y) {
+// rests (its head keeps still). `x_subject`: another capture subject for X's user.
+GazesAtY x_looks_at_y_seen_from_z(const char* z, const char* x, const char* y,
+                                  const char* x_subject = nullptr) {
   const auto name = [](const char* file) {
     return std::string(1, static_cast<char>(file[0] - 32));
   };
@@ -236,8 +241,8 @@ GazesAtY x_looks_at_y_seen_from_z(const char* z, const char* x, const char* y) {
     ADD_FAILURE() << relay.out() << relay.err();
     return seen;
   }
-  Deixis x_site(
-      join_args(port, "meeting", site_variant(dir.path(), x, X, x_script), dir.path() / X, 16.0));
+  Deixis x_site(join_args(port, "meeting", site_variant(dir.path(), x, X, x_script, x_subject),
+                          dir.path() / X, 16.0));
   EXPECT_TRUE(wait_for_count(z_site, X + " is here", 1, 30.0)) << z_site.out() << z_site.err();
   EXPECT_TRUE(wait_for_count(x_site, Z + " is here", 1, 30.0)) << x_site.out() << x_site.err();
   Deixis y_site(
@@ -263,8 +268,8 @@ GazesAtY x_looks_at_y_seen_from_z(const char* z, const char* x, const char* y) {
       seen.error_deg.push_back(g["error_deg"].get<double>());
     }
   }
-  std::printf("in room %s, %s's avatar's gaze at %s's avatar off by", Z.c_str(), X.c_str(),
-              Y.c_str());
+  std::printf("in room %s, %s's (subject %s) avatar's gaze at %s's avatar off by", Z.c_str(),
+              X.c_str(), x_subject != nullptr ? x_subject : "of the site file", Y.c_str());
   for (double e : seen.error_deg) {
     std::printf(" %.1f°", e);
   }
@@ -289,15 +294,17 @@ TEST(RoomsLifecycle, GazeOfXAtYLandsOnYsAvatarInTheThirdRoom) {
   }
 }
 
-// Known problem (docs/relay.md): where the third room's spots put Y on the other side of X's
-// avatar than X's room put Y (or for some people in any layout), the gaze misses by 6–38°. Run
-// with --gtest_also_run_disabled_tests to see it.
-TEST(RoomsLifecycle, DISABLED_GazeAtAPersonLandsInEveryLayout) {
-  for (const auto& [z, x, y] :
-       {std::tuple{"c.json", "a.json", "b.json"}, std::tuple{"a.json", "c.json", "b.json"},
-        std::tuple{"b.json", "c.json", "a.json"}, std::tuple{"a.json", "b.json", "c.json"}}) {
-    SCOPED_TRACE(std::string(x) + " looks at " + y + " seen from " + z);
-    const GazesAtY seen = x_looks_at_y_seen_from_z(z, x, y);
+// Known problem (docs/relay.md, decision 66): the gaze of a left-handed person (capture subjects
+// 173 and 174: sites B and C) at another person misses by 20–38°, in every layout, while a
+// right-handed person's lands within 3–8°. The first case is the enabled test's, with A's user
+// made left-handed. Run with --gtest_also_run_disabled_tests to see it.
+TEST(RoomsLifecycle, DISABLED_ALeftHandedPersonsGazeAtAPersonLandsToo) {
+  for (const auto& [z, x, y, subject] : {std::tuple{"b.json", "a.json", "c.json", "173"},
+                                         std::tuple{"a.json", "c.json", "b.json", "174"},
+                                         std::tuple{"b.json", "c.json", "a.json", "174"},
+                                         std::tuple{"a.json", "b.json", "c.json", "173"}}) {
+    SCOPED_TRACE(std::string(x) + " (subject " + subject + ") looks at " + y + " seen from " + z);
+    const GazesAtY seen = x_looks_at_y_seen_from_z(z, x, y, subject);
     EXPECT_GE(seen.error_deg.size(), 2u) << seen.record.dump();
     EXPECT_LE(median(seen.error_deg), 5.0) << seen.record.dump();
   }
