@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "core/io/text_rules.h"
 #include "site/endpoint.h"
 
 namespace deixis::sim {
@@ -71,12 +72,48 @@ NetworkForm initial_network_form(const SimOptions& flags) {
                              : "127.0.0.1:" + std::to_string(defaults.port));
   fill(form.port, std::to_string(joined ? defaults.port : flags.port));
   fill(form.passphrase, flags.passphrase);
+  fill(form.room, flags.room);
   form.bind = form.host ? flags.address : defaults.address;
   form.wait = flags.wait;
   return form;
 }
 
+// Join with a room's name: the endpoint is the relay's, and the room is entered with the same
+// rules as `--connect --room` (an open room through a relay beyond loopback needs --open).
+FormSession room_session(const NetworkForm& form) {
+  FormSession s = join_session(form);
+  const std::string name = form.room.data();
+  if (!s.options) {
+    s.problem.replace(0, 4, "Room");  // "Join: …" about the relay's address
+    return s;
+  }
+  if (!is_wire_text(name)) {
+    s.options.reset();
+    s.problem = "Room: a room name is 1 to 64 bytes of UTF-8 without control characters";
+    return s;
+  }
+  const std::string passphrase = form.passphrase.data();
+  const std::string problem = site::open_room_problem(s.options->address, !passphrase.empty());
+  if (!problem.empty()) {
+    s.options.reset();
+    s.problem = "Room: " + problem;
+    return s;
+  }
+  site::RoomPeerOptions room;
+  room.relay_host = s.options->address;
+  room.relay_port = s.options->port;
+  room.room = name;
+  room.passphrase = passphrase;
+  room.wait = form.wait;
+  s.options.reset();
+  s.room = room;
+  return s;
+}
+
 FormSession form_session(const NetworkForm& form) {
+  if (!form.host && form.room[0] != '\0') {
+    return room_session(form);
+  }
   FormSession s = form.host ? host_session(form) : join_session(form);
   if (s.options) {
     s.options->passphrase = form.passphrase.data();

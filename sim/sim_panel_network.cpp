@@ -86,6 +86,11 @@ void address_field(NetworkForm& form, PanelWidgets* widgets) {
   note(widgets, "join address");
   ImGui::SameLine();
   ImGui::TextUnformatted(kWords);
+  // A room's name makes the address a relay's (`--connect HOST:PORT --room NAME`).
+  ImGui::SetNextItemWidth(std::max(ImGui::GetContentRegionAvail().x, 60.0f));
+  ImGui::InputTextWithHint("##room", "room on a relay (empty: the host directly)", form.room.data(),
+                           form.room.size(), kFlags);
+  note(widgets, "room");
 }
 
 // The passphrase, never shown in clear, and Start beside it.

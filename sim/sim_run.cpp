@@ -229,11 +229,13 @@ class Sim {
 
   void start_from_form() {
     const FormSession session = form_session(edits_.network);
-    if (!session.options) {
+    if (session.room) {
+      start_network(*session.room);
+    } else if (session.options) {
+      start_network(*session.options);
+    } else {
       form_problem_ = session.problem;
-      return;
     }
-    start_network(*session.options);
   }
 
   void leave_network() {

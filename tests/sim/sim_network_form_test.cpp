@@ -92,6 +92,59 @@ std::string host_problem(const char* port) {
   return form_session(form).problem;
 }
 
+TEST(SimNetworkFormTest, ARoomsNameMakesItARoomOnTheRelay) {
+  // The flags' room fills the form; Start enters that room on the relay, as --connect --room.
+  sim::SimOptions flags;
+  flags.network = true;
+  flags.host = false;
+  flags.address = "127.0.0.1";
+  flags.port = 7351;
+  flags.room = "meeting";
+  flags.passphrase = "blue whale";
+  flags.wait = 8.0;
+  NetworkForm form = initial_network_form(flags);
+  EXPECT_STREQ(form.room.data(), "meeting");
+  FormSession s = form_session(form);
+  EXPECT_FALSE(s.options.has_value());
+  ASSERT_TRUE(s.room.has_value()) << s.problem;
+  EXPECT_EQ(s.room->relay_host, "127.0.0.1");
+  EXPECT_EQ(s.room->relay_port, 7351);
+  EXPECT_EQ(s.room->room, "meeting");
+  EXPECT_EQ(s.room->passphrase, "blue whale");
+  EXPECT_EQ(s.room->wait, 8.0);
+
+  // Without a name it is a direct join of the same address; hosting ignores the name.
+  set(form.room, "");
+  s = form_session(form);
+  EXPECT_FALSE(s.room.has_value());
+  ASSERT_TRUE(s.options.has_value()) << s.problem;
+  EXPECT_EQ(s.options->port, 7351);
+  set(form.room, "meeting");
+  form.host = true;
+  EXPECT_FALSE(form_session(form).room.has_value());
+  form.host = false;
+
+  // A name with a control character, a bad relay address, and an open room through a relay
+  // beyond this machine (without --open) are refused, saying why.
+  set(form.room, "a\tb");
+  s = form_session(form);
+  EXPECT_FALSE(s.room.has_value() || s.options.has_value());
+  EXPECT_NE(s.problem.find("room name"), std::string::npos) << s.problem;
+  set(form.room, "meeting");
+  set(form.endpoint, "127.0.0.1");
+  s = form_session(form);
+  EXPECT_FALSE(s.room.has_value() || s.options.has_value());
+  EXPECT_EQ(s.problem.rfind("Room: ", 0), 0u) << s.problem;
+  set(form.endpoint, "192.0.2.1:7351");
+  set(form.passphrase, "");
+  site::allow_open_sessions(false);
+  s = form_session(form);
+  EXPECT_FALSE(s.room.has_value() || s.options.has_value());
+  EXPECT_NE(s.problem.find("--open"), std::string::npos) << s.problem;
+  set(form.passphrase, "blue whale");
+  EXPECT_TRUE(form_session(form).room.has_value());
+}
+
 TEST(SimNetworkFormTest, WhatCannotStartSaysWhy) {
   EXPECT_EQ(join_problem("192.168.1.20:7350"), "");
   EXPECT_NE(join_problem("127.0.0.1").find("expected HOST:PORT"), std::string::npos);

@@ -177,6 +177,56 @@ TEST_F(SimRoomTest, TheSimulatorMeetsTwoSitesInARoomAndEachListsTheOthers) {
   }
 }
 
+TEST_F(SimRoomTest, TheSimulatorEntersARoomFromItsPanel) {
+  // No network flags: scripted input types the relay's address and the room's name into the
+  // panel's form and presses Start, as a person would (the passphrase comes from the environment
+  // into the form).
+  const render::testing::XvfbServer& xvfb = display();
+  if (xvfb.missing()) {
+    GTEST_SKIP() << xvfb.error();
+  }
+  ASSERT_TRUE(xvfb.ready()) << xvfb.error();
+  setenv("DEIXIS_PASSPHRASE", "one room, from the panel", 1);
+  Deixis relay({"relay", "--port", "0"});
+  const int port = relay.port();
+  ASSERT_GT(port, 0) << relay.err();
+  Deixis b(join(port, "b.json", "B"));
+  ASSERT_TRUE(relay.wait_for_text("(1 now", 60.0)) << relay.out() << relay.err();
+  const auto event = [](double t, const char* type, const char* key, const std::string& value) {
+    return json{{"t", t}, {"type", type}, {key, value}};
+  };
+  const json events = {event(0.3, "click", "widget", "Join"),
+                       event(0.5, "click", "widget", "join address"),
+                       event(0.7, "text", "text", "127.0.0.1:" + std::to_string(port)),
+                       event(0.9, "click", "widget", "room"),
+                       event(1.1, "text", "text", "meeting"),
+                       event(1.3, "click", "widget", "Start")};
+  const fs::path input = dir_.path() / "panel.json";
+  std::ofstream(input) << json{{"format", "deixis-sim-input"}, {"version", 1}, {"events", events}};
+  Deixis a({"sim", "--site-a", site_a().string(), "--input", input.string(), "--script",
+            "--seconds", "9", "--weights-dir", weights_dir(), "--width", std::to_string(kWidth),
+            "--height", std::to_string(kHeight), "--wait", "20", "--report", report().string()});
+  ASSERT_EQ(a.wait(), 0) << a.out() << a.err();
+  EXPECT_EQ(b.wait(), 0) << b.err();
+  unsetenv("DEIXIS_PASSPHRASE");
+  relay.send_signal(SIGTERM);
+  EXPECT_EQ(relay.wait(), 0) << relay.err();
+
+  const json n = read_json(report())["network"];
+  std::printf("deixis sim, a room entered from the panel: %s\n", n.dump().c_str());
+  EXPECT_EQ(n["role"], "room");
+  EXPECT_EQ(n["room"], "meeting");
+  EXPECT_EQ(n["port"].get<int>(), port);
+  EXPECT_EQ(n["state"], "in the room");
+  const std::map<std::string, json> people = by_site(n["people"]);
+  ASSERT_TRUE(people.count("B")) << n.dump(2);
+  EXPECT_GT(people.at("B")["frames_played"].get<int>(), 60);
+  const std::map<std::string, json> met =
+      by_site(read_json(dir_.path() / "B/session.json")["people"]);
+  ASSERT_TRUE(met.count("A"));
+  EXPECT_GT(met.at("A")["frames_played"].get<int>(), 60) << met.at("A");
+}
+
 TEST_F(SimRoomTest, BadRoomFlagsExitTwoNamingThem) {
   const std::vector<BadInput> cases = {
       {{"sim", "--room", "R"}, "--connect"},  // a room needs the relay

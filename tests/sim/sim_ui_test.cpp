@@ -199,7 +199,7 @@ TEST_F(SimPanelTest, TheNetworkSectionIsAFormUntilASessionRuns) {
   // No session yet: the form, nothing of a session.
   frame();
   frame();
-  expect_drawn({"Join", "Host", "join address", "passphrase", "Start"});
+  expect_drawn({"Join", "Host", "join address", "room", "passphrase", "Start"});
   EXPECT_EQ(widgets_.find("network state"), nullptr);
   EXPECT_EQ(widgets_.find("Leave"), nullptr);
   EXPECT_TRUE(click("Start").start_network);
