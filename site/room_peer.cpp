@@ -52,10 +52,7 @@ class RoomPeer::LossyTransport final : public net::RoomTransport {
 RoomPeer::RoomPeer(const RoomPeerOptions& options, const SiteConfig& site,
                    const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
                    const ik::AvatarSolver& solver, double now)
-    : site_(site),
-      options_(options),
-      people_(site, networks, solver, options.people),
-      started_(now) {
+    : options_(options), people_(site, networks, solver, options.people), started_(now) {
   if (options_.room.empty()) {
     throw Error("room: a room name is needed (--room NAME)");
   }

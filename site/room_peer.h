@@ -89,7 +89,6 @@ class RoomPeer {
   void take_chosen_avatars();
   void avatar_download_ended(net::MemberId person);
 
-  const SiteConfig& site_;
   RoomPeerOptions options_;
   std::unique_ptr<net::RelayClient> client_;
   class LossyTransport;  // RelayTransport losing a share of tracking packets (drop_tracking)

@@ -22,7 +22,6 @@ using ConstArrayMap = Eigen::Map<const Eigen::ArrayXf>;
 
 constexpr int kTime = MoeStep::kWindowRows;
 constexpr int kExperts = MoeStep::kExperts;
-constexpr int kGatingLayers = 2;
 
 // The product of extents as an index (every extent here is small and non-negative).
 template <typename... Extent>

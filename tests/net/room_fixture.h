@@ -37,7 +37,7 @@ class FakeRelay {
   // One member's connection: what a RoomSession sends through.
   class Endpoint final : public net::RoomTransport {
    public:
-    Endpoint(FakeRelay& relay, std::size_t index) : relay_(relay), index_(index) {}
+    Endpoint(FakeRelay& relay, std::size_t /*index*/) : relay_(relay) {}
     bool enter(std::span<const std::uint8_t> params,
                std::span<const std::uint8_t> announce) override {
       return relay_.enter(*this, params, announce);
@@ -55,7 +55,6 @@ class FakeRelay {
    private:
     friend class FakeRelay;
     FakeRelay& relay_;
-    std::size_t index_;
     MemberId id_ = net::kNoMember;
     bool in_room_ = false;
     bool connected_ = false;
