@@ -845,6 +845,7 @@ void RoomSession::on_tracking(Member& m, Channel channel, std::span<const std::b
   }
   m.last_heard = now_;
   ++m.stats.tracking_received;
+  ++stats_.tracking_received;
   m.jitter.push(tracking_rx_.sequence, tracking_rx_.frame, now_);
 }
 

@@ -77,6 +77,7 @@ RoomPeer::~RoomPeer() = default;
 void RoomPeer::service(double now, std::uint32_t wait_ms) {
   session_->poll(now);
   client_->poll(now, *session_, wait_ms);
+  stats_.tracking_received = session_->stats().tracking_received;
   take_events();
   check(now);
 }
@@ -121,7 +122,6 @@ void RoomPeer::take_events() {
         }
         break;
       case net::RoomEventKind::kLeft:
-        count_received(e.person);
         if (const PersonStats* person = people_.stats(e.person); person != nullptr) {
           spdlog::info("room {}: {} left ({})", options_.room, person->site,
                        net::left_because_name(e.why));
@@ -169,12 +169,6 @@ void RoomPeer::take_chosen_avatars() {
       spdlog::info("room {}: {} wears the avatar they chose ({} joints)", options_.room,
                    person != nullptr ? person->site : "?", update.avatar->solver.joint_count());
     }
-  }
-}
-
-void RoomPeer::count_received(net::MemberId person) {
-  if (const net::PersonStats* s = session_->person_stats(person); s != nullptr) {
-    stats_.tracking_received += s->tracking_received;
   }
 }
 
@@ -247,9 +241,6 @@ void RoomPeer::close(double now) {
     return;
   }
   closed_ = true;
-  for (const net::MemberId person : session_->people()) {
-    count_received(person);
-  }
   session_->leave(now);
   client_->close(now);
   people_.finish();

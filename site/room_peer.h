@@ -84,7 +84,6 @@ class RoomPeer {
   void service(double now, std::uint32_t wait_ms);
   void check(double now) const;
   void take_events();
-  void count_received(net::MemberId person);  // before the session forgets them
   void play_due_frames(double now, const LocalTargets& room);
   void take_chosen_avatars();
   void avatar_download_ended(net::MemberId person);

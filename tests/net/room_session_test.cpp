@@ -338,6 +338,9 @@ TEST(Room, AMemberLeavingAndRejoiningGetsANewIdAndIsVerifiedAgain) {
     events_of(*m);
   }
   const MemberId old_c = room.id(2);
+  stream(room, 10);
+  const std::uint64_t from_old_c = room.members[0]->person_stats(old_c)->tracking_received;
+  EXPECT_GE(from_old_c, 8u);
   room.relay.disconnect(*room.endpoints[2]);
   room.members[2]->on_relay_lost();
   ASSERT_TRUE(room.run_until([&] { return room.everyone_sees({0, 1}, 1); }, 1.0));
@@ -358,6 +361,10 @@ TEST(Room, AMemberLeavingAndRejoiningGetsANewIdAndIsVerifiedAgain) {
   EXPECT_EQ(room.members[0]->stats().verified, 3u);  // B, C, and C again
   const Streams s = stream(room, 30);
   EXPECT_GE((s.played.at({0, new_c})), 25u);
+  // The running total keeps the frames of the C that left, besides B's and the new C's.
+  const RoomSession& a = *room.members[0];
+  EXPECT_EQ(a.stats().tracking_received, a.person_stats(room.id(1))->tracking_received +
+                                             from_old_c + a.person_stats(new_c)->tracking_received);
 }
 
 TEST(Room, ReplayedForgedAndMisattributedPacketsAreDropped) {

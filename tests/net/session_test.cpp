@@ -283,7 +283,7 @@ TEST(Session, AnotherProtocolVersionIsRefusedWithAReason) {
   joiner.start(now);
   std::vector<std::byte> welcome;
   encode(Welcome{}, welcome);
-  welcome[5] = std::byte{3};  // protocol version 3
+  welcome[5] = static_cast<std::byte>(kProtocolVersion + 1);  // a version after ours
   bool got_bye = false;
   for (int i = 0; i < 200 && !got_bye; ++i) {
     now += 0.005;
