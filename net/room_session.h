@@ -139,9 +139,9 @@ struct RoomStats {
   std::uint64_t people_arrived = 0;
   std::uint64_t people_left = 0;
   std::uint64_t timeouts = 0;
-  std::uint64_t floods = 0;          // members no longer listened to for flooding
-  std::uint64_t over_capacity = 0;   // members ignored: max_members were held already
-  std::uint64_t tracking_sent = 0;   // frames sealed (once) and sent
+  std::uint64_t floods = 0;         // members no longer listened to for flooding
+  std::uint64_t over_capacity = 0;  // members ignored: max_members were held already
+  std::uint64_t tracking_sent = 0;  // frames sealed (once) and sent
   // Frames decoded from everyone, people who have left included (PersonStats holds one
   // person's only while they are here).
   std::uint64_t tracking_received = 0;
