@@ -78,6 +78,14 @@ TranslationInput Translator::input_for(const TrackingFrame& frame, const LocalTa
   in.avatar_target = target_feature_from_root(
       O, at_user_size(avatar_target_position(frame.head_target, frame.head_target_position, room)),
       at_user_size(avatar_target_position(frame.hand_target, frame.hand_target_position, room)));
+  if (config_.mirrored) {
+    // The networks see the person's mirror image; finish_tick() mirrors the avatar back. The
+    // MPNet angles are mirror invariant, its target feature is not.
+    mirror_end_effectors(in.user_x);
+    mirror_target_feature(std::span<float, kTargetFeatureSize>(
+        in.user_features.data() + mf::kTarget, kTargetFeatureSize));
+    mirror_target_feature(in.avatar_target);
+  }
   return in;
 }
 
@@ -173,7 +181,11 @@ void Translator::end_tick(const nn::PoseVector& prediction) {
 
 void Translator::finish_tick() {
   result_.ready = true;
-  result_.deictic = decode_end_effectors(step_.avatar_x, config_.T_world_avatar_root);
+  EndEffectors avatar_x = step_.avatar_x;
+  if (config_.mirrored) {
+    mirror_end_effectors(avatar_x);  // back from the networks' mirror image
+  }
+  result_.deictic = decode_end_effectors(avatar_x, config_.T_world_avatar_root);
   result_.other_wrist_from_head = last_other_wrist_from_head_;
   result_.other_wrist_from_head.translation /= loop_.scale();
   result_.hand_target = last_valid_.hand_target;

@@ -26,6 +26,10 @@ struct TranslatorConfig {
   Pose T_world_avatar_root;  // where their avatar stands in this room: its root O, yaw-only
   float avatar_height = 1.70f;
   std::uint32_t noise_seed = 1;  // for a diffusion UGNet's draws
+  // Run the networks on the person's mirror image (docs/conventions.md#left-hand-mirroring):
+  // their x and both θ mirrored on the way in, the avatar's x mirrored back on the way out, so
+  // that a left-handed person goes through the right-hand weights (docs/decisions.md §68).
+  bool mirrored = false;
 };
 
 // What this room knows about targets: its target map, where the local user's head is (the

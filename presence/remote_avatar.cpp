@@ -15,6 +15,7 @@ TranslatorConfig translator_config(const ik::AvatarSolver& solver,
   t.T_world_avatar_root = avatar_origin(solver, config.T_world_floor);
   t.avatar_height = solver.rig.height;
   t.noise_seed = config.noise_seed;
+  t.mirrored = config.mirrored;
   return t;
 }
 

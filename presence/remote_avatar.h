@@ -27,6 +27,7 @@ struct RemoteAvatarConfig {
   Pose T_world_floor;            // where the avatar stands in this room: a floor point, yaw only
   std::uint32_t noise_seed = 1;  // for a diffusion UGNet
   bool touch_contact = true;     // finish touches on the object's surface (touch_contact.h)
+  bool mirrored = false;         // the networks run on the person's mirror image (translator.h)
 };
 
 // Where the avatar's root O goes for a floor placement: H of the rig's rest pose straight above

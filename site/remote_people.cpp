@@ -163,13 +163,16 @@ const ik::AvatarSolver& RemotePeople::solver_of(const Slot& slot) const {
 // and, when measuring, the copy-paste baseline for that rig.
 void RemotePeople::dress(Slot& slot) {
   const ik::AvatarSolver& solver = solver_of(slot);
-  const MoeNetworks& n = networks_[static_cast<std::size_t>(index(slot.body.deictic_hand))];
+  // Left-handed people go through the right-hand weights on their mirror image (decision 68).
+  const bool mirrored = slot.body.deictic_hand == Hand::kLeft && !options_.left_hand_weights;
+  const Hand weights = mirrored ? Hand::kRight : slot.body.deictic_hand;
+  const MoeNetworks& n = networks_[static_cast<std::size_t>(index(weights))];
   const Pose& T_world_floor = site_.spots[slot.stats.spot].T_world_floor();
   slot.T_world_origin = presence::avatar_origin(solver, T_world_floor);
   slot.avatar.emplace(n.mpnet, n.ugnet, solver,
                       presence::RemoteAvatarConfig{slot.body, T_world_floor,
                                                    static_cast<std::uint32_t>(slot.stats.id),
-                                                   options_.touch_contact});
+                                                   options_.touch_contact, mirrored});
   if (options_.completions > 0) {
     slot.copy.emplace(slot.body, slot.T_world_origin, solver.rig.height);
     if (!slot.observer) {

@@ -47,6 +47,11 @@ struct RemotePeopleOptions {
   // Every remote person wears this avatar here, whatever they chose (a site's local override,
   // `--remote-avatar`); null: the site's own until wear() gives them theirs.
   std::shared_ptr<const PersonAvatar> override_avatar{};
+  // A left-handed person is translated with the right-hand weights on their mirror image
+  // (docs/decisions.md §68: the left-hand weights turn the avatar's gaze 28° short of a person
+  // on its left); true puts them through the left-hand weights as they are (decision 17), to
+  // measure the difference.
+  bool left_hand_weights = false;
 };
 
 // One remote person, as seen from this site.

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -156,6 +157,55 @@ TEST_F(TranslatorTest, TheAvatarStandsAtItsOwnRoot) {
   const Vec3 avatar_root = config().T_world_avatar_root.translation;
   EXPECT_LT((a.deictic.T_world_head.translation - avatar_root).norm(), 0.15f);
   EXPECT_LT(a.other_wrist_from_head.translation.y(), -0.5f);
+}
+
+// A mirrored translator (a left-handed person through the right-hand weights,
+// docs/decisions.md §68) fed the mirror image of a right-handed person, in the mirror image of a
+// room, moves the avatar as the mirror image of an unmirrored translator's: the networks see the
+// same numbers, and what comes back is mirrored once, through the person's sagittal plane.
+TEST(MirroredTranslator, IsTheMirrorImageOfTheRightHandedTranslation) {
+  const auto mirror = [](const Vec3& v) { return Vec3(-v.x(), v.y(), v.z()); };
+  const fs::path weights = testing::reference_dir() / "weights/right";
+  const auto translator = [&](Hand hand, bool mirrored, float side) {
+    TranslatorConfig c;
+    c.user = testing::StandingPerson(hand).body;
+    c.T_world_avatar_root = Pose{yaw_rotation(0.5f * side), Vec3(3 * side, 1.55f, 1)};
+    c.avatar_height = 1.65f;
+    c.mirrored = mirrored;
+    return Translator(nn::Mpnet::load(weights / "MPNet(MoE)(AC)80.safetensors"),
+                      nn::Ugnet::load(weights / "UGNet(MoE)(AC)120.safetensors"), c);
+  };
+  Translator right = translator(Hand::kRight, false, 1.0f);
+  Translator left = translator(Hand::kLeft, true, -1.0f);
+  TargetMap room, mirror_room;
+  room.objects.push_back(
+      {1, "Jupiter", TargetKind::kSphere, Vec3(1.5f, 1.5f, -2.5f), Vec3(0.3f, 0.3f, 0.3f)});
+  mirror_room.objects = room.objects;
+  mirror_room.objects[0].position = mirror(room.objects[0].position);
+  const LocalTargets targets{&room, Vec3(0, 1.6f, -2.0f)};
+  const LocalTargets mirror_targets{&mirror_room, Vec3(0, 1.6f, -2.0f)};
+  // Each looks and points at a target to their deictic side.
+  testing::StandingPerson r(Hand::kRight), l(Hand::kLeft);
+  for (testing::StandingPerson* p : {&r, &l}) {
+    const float side = p == &r ? 1.0f : -1.0f;
+    TrackingFrame& f = p->frame;
+    f.head_target_position = f.hand_target_position = Vec3(0.8f * side, 1.4f, -2.0f);
+    f.gaze = (f.head_target_position - f.T_world_head.translation).normalized();
+  }
+  float worst = 0.0f;
+  for (int i = 0; i < 40; ++i) {
+    const AvatarFrame a = right.tick(&r.frame, targets);
+    const AvatarFrame b = left.tick(&l.frame, mirror_targets);
+    ASSERT_EQ(b.deictic_hand, Hand::kLeft);
+    worst = std::max(
+        {worst, (mirror(a.deictic.gaze) - b.deictic.gaze).norm(),
+         (mirror(a.deictic.T_world_head.translation) - b.deictic.T_world_head.translation).norm(),
+         (mirror(a.deictic.T_world_wrist.translation) - b.deictic.T_world_wrist.translation).norm(),
+         (mirror(a.deictic.index_tip) - b.deictic.index_tip).norm()});
+  }
+  EXPECT_LT(worst, 1e-3f);
+  // Not trivially so: the avatar looks to its side, not straight ahead.
+  EXPECT_GT(std::abs(right.tick(&r.frame, targets).deictic.gaze.x()), 0.1f);
 }
 
 }  // namespace
