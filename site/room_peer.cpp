@@ -189,6 +189,7 @@ void RoomPeer::tick(const TrackingFrame& user, double sampled, double now,
   }
   LocalTargets with_people = room;
   with_people.people = people_.people_targets(session_->self(), user.T_world_head.translation);
+  stats_.tick_translation_ms = -1.0;
   play_due_frames(now, with_people);
   people_.end_tick();
 }
@@ -223,7 +224,11 @@ void RoomPeer::play_due_frames(double now, const LocalTargets& room) {
       more = true;
     }
     if (!batch_.empty()) {
+      const auto began = std::chrono::steady_clock::now();
       people_.tick(batch_, room, now - started_);
+      const std::chrono::duration<double, std::milli> took =
+          std::chrono::steady_clock::now() - began;
+      stats_.tick_translation_ms = std::max(stats_.tick_translation_ms, 0.0) + took.count();
     }
   }
 }

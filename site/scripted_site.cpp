@@ -193,6 +193,10 @@ class ScriptedSite {
     measure_.set_now(now);
     if constexpr (kRoom) {
       peer_.tick(frame, due, now, room(frame));
+      // A room translates everyone due in one batch: its time is the tick's, for all of them.
+      if (peer_.stats().tick_translation_ms >= 0.0) {
+        push(record_.translation_ms, peer_.stats().tick_translation_ms);
+      }
     } else {
       peer_.tick(frame, due, now, room(frame), &measure_);
     }
@@ -261,6 +265,7 @@ class ScriptedSite {
       record_.visible_ticks = std::max(record_.visible_ticks, p.visible_ticks);
     }
     record_.peer_site = sites.empty() ? "?" : sites;
+    record_.room = true;
     const net::RoomSession& room = peer_.session();
     record_.net.tracking_sent = room.stats().tracking_sent;
     record_.net.parts_not_sent = room.stats().parts_not_sent;

@@ -219,6 +219,24 @@ void write_site_report(const SiteRecord& r, const std::filesystem::path& path) {
   }
 }
 
+namespace {
+
+// "HE 1.2° VE 3.4°", or "none observed" when nothing completed (means of nothing are NaN).
+void print_completions(std::FILE* out, const std::string& site, const Means& p, const Means& t) {
+  std::fprintf(out, "  %s's pointing (%zu)", site.c_str(), p.count);
+  if (p.count > 0) {
+    std::fprintf(out, ": avatar HE %.1f° VE %.1f°, copy HE %.1f° VE %.1f°", p.avatar_h, p.avatar_v,
+                 p.copy_h, p.copy_v);
+  }
+  std::fprintf(out, "; touching (%zu)", t.count);
+  if (t.count > 0) {
+    std::fprintf(out, ": avatar %.1f cm, copy %.1f cm", t.avatar_cm, t.copy_cm);
+  }
+  std::fprintf(out, "\n");
+}
+
+}  // namespace
+
 void print_site_summary(const SiteRecord& r, std::FILE* out) {
   const Means p = means(r.remote_completions, false);
   const Means t = means(r.remote_completions, true);
@@ -240,11 +258,15 @@ void print_site_summary(const SiteRecord& r, std::FILE* out) {
     std::fprintf(out, "; render p50 %.1f ms p99 %.1f ms\n", percentile(r.render_ms, 50),
                  percentile(r.render_ms, 99));
   }
-  std::fprintf(out,
-               "  %s's pointing (%zu): avatar HE %.1f° VE %.1f°, copy HE %.1f° VE %.1f°; touching "
-               "(%zu): avatar %.1f cm, copy %.1f cm\n",
-               r.peer_site.c_str(), p.count, p.avatar_h, p.avatar_v, p.copy_h, p.copy_v, t.count,
-               t.avatar_cm, t.copy_cm);
+  if (r.room) {
+    // A room: one line per person (their completions are kept per person).
+    for (const PersonRecord& person : r.people) {
+      print_completions(out, person.site, means(person.completions, false),
+                        means(person.completions, true));
+    }
+  } else {
+    print_completions(out, r.peer_site, p, t);
+  }
 }
 
 }  // namespace deixis::site

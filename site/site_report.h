@@ -52,9 +52,10 @@ struct PersonRecord {
 
 struct SiteRecord {
   std::string site;
-  std::string role;  // "host" or "join"
-  std::string peer_site;
-  double seconds = 0.0;  // wall time of the 30 Hz loop
+  std::string role;       // "host" or "join"
+  std::string peer_site;  // a room: the people's sites, comma-separated
+  bool room = false;      // a room of several people (their completions are per person)
+  double seconds = 0.0;   // wall time of the 30 Hz loop
   std::uint64_t ticks = 0;
   std::uint64_t late_ticks = 0;        // started more than one tick after they were due
   std::uint64_t visible_ticks = 0;     // the remote avatar was shown
