@@ -77,7 +77,6 @@ RoomPeer::~RoomPeer() = default;
 void RoomPeer::service(double now, std::uint32_t wait_ms) {
   session_->poll(now);
   client_->poll(now, *session_, wait_ms);
-  stats_.tracking_received = session_->stats().tracking_received;
   take_events();
   check(now);
 }

@@ -46,8 +46,7 @@ struct RoomPeerOptions {
 
 struct RoomPeerStats {
   std::uint64_t ticks = 0, sent = 0, dropped_on_purpose = 0, played = 0, missed = 0;
-  std::uint64_t people_refused = 0;     // more people than spots: not shown
-  std::uint64_t tracking_received = 0;  // frames decoded from everyone, including people who left
+  std::uint64_t people_refused = 0;  // more people than spots: not shown
   // The last tick's translation of everyone it played (networks batched across people, contact,
   // IK), in ms; negative when it played no one.
   double tick_translation_ms = -1.0;

@@ -276,7 +276,7 @@ class ScriptedSite {
       record_.jitter.played += p.frames_played;
       record_.jitter.missed += p.frames_missed;
     }
-    record_.net.tracking_received = peer_.stats().tracking_received;
+    record_.net.tracking_received = room.stats().tracking_received;  // people who left too
   }
 
   // The direct session's one remote person, measured by this site's observer.
