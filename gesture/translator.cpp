@@ -7,6 +7,10 @@ namespace deixis {
 
 namespace {
 
+float angle_deg(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * 57.2957795f;
+}
+
 bool finite(const Vec3& v) {
   return v.allFinite();
 }
@@ -34,6 +38,18 @@ Translator::Translator(nn::Mpnet mpnet, nn::Ugnet ugnet, const TranslatorConfig&
       rng_(config.noise_seed),
       needs_noise_(ugnet.needs_noise()) {}
 
+const Vec3* LocalTargets::find_position(TargetId id) const {
+  if (id == kPartnerTarget) {
+    return &partner_head;
+  }
+  if (is_person_target(id)) {
+    const PersonTarget* person = find_person(target_person(id));
+    return person != nullptr ? &person->head : nullptr;
+  }
+  const TargetObject* object = map != nullptr ? map->find(id) : nullptr;
+  return object != nullptr ? &object->position : nullptr;
+}
+
 bool Translator::usable(const TrackingFrame& frame) const {
   const std::uint8_t needed =
       tracked::kHead | tracked::kGaze | tracked::hand(config_.user.deictic_hand);
@@ -43,18 +59,9 @@ bool Translator::usable(const TrackingFrame& frame) const {
 
 Vec3 Translator::avatar_target_position(TargetId id, const Vec3& user_position,
                                         const LocalTargets& room) {
-  if (id == kPartnerTarget) {
-    return room.partner_head;
-  }
-  if (is_person_target(id)) {
-    // Another person of the room: wherever their head is in this room (docs/target-map.md).
-    if (const PersonTarget* person = room.find_person(target_person(id))) {
-      return person->head;
-    }
-  } else if (room.map != nullptr) {
-    if (const TargetObject* object = room.map->find(id)) {
-      return object->position;
-    }
+  // Another person of the room is wherever their head is in this room (docs/target-map.md).
+  if (const Vec3* here = room.find_position(id)) {
+    return *here;
   }
   // This room has no copy of the object: keep the user's target where it is relative to the
   // user's root, seen from the avatar's root (what copying the pose would do).
@@ -118,7 +125,8 @@ bool Translator::begin_tick(const TrackingFrame* frame, const LocalTargets& room
   result_.ready = false;
   result_.held = false;
   result_.deictic_hand = config_.user.deictic_hand;
-  result_.hand_target = kNoTarget;
+  result_.head_target = result_.hand_target = kNoTarget;
+  result_.person_gaze_off_deg = 180.0f;
   result_.progression = {};
   result_.head_weight = result_.hand_weight = 0.0f;
   if (frame != nullptr && usable(*frame)) {
@@ -188,6 +196,9 @@ void Translator::finish_tick() {
   result_.deictic = decode_end_effectors(avatar_x, config_.T_world_avatar_root);
   result_.other_wrist_from_head = last_other_wrist_from_head_;
   result_.other_wrist_from_head.translation /= loop_.scale();
+  result_.head_target = last_valid_.head_target;
+  result_.person_gaze_off_deg = angle_deg(
+      last_valid_.gaze, last_valid_.head_target_position - last_valid_.T_world_head.translation);
   result_.hand_target = last_valid_.hand_target;
   result_.progression = step_.progression;
   result_.head_weight = step_.head_weight;

@@ -42,6 +42,9 @@ struct LocalTargets {
   std::span<const PersonTarget> people{};
 
   const PersonTarget* find_person(PersonId id) const { return deixis::find_person(people, id); }
+  // Where target `id` stands in this room: an object of the map, the other person of a direct
+  // session, a person of the room; null when this room has no copy of it.
+  const Vec3* find_position(TargetId id) const;
 };
 
 struct AvatarFrame {
@@ -53,6 +56,10 @@ struct AvatarFrame {
   // moves with the body and not with the head's turns), its offset scaled to the avatar's size:
   // IK keeps its azimuth, elevation and distance from H (docs/conventions.md#translator).
   Pose other_wrist_from_head;
+  TargetId head_target = kNoTarget;  // what the person's gaze designates (held with the frame)
+  // How far the person's own gaze is from their head target in their room, degrees (held with
+  // the frame): near 0 while their eyes are on it (presence/gaze_settle.h).
+  float person_gaze_off_deg = 180.0f;
   TargetId hand_target = kNoTarget;  // what the person's hand designates (held with the frame)
   nn::Progression progression{};
   float head_weight = 0.0f;

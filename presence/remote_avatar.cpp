@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "ik/other_arm_job.h"
+#include "presence/gaze_settle.h"
 #include "presence/touch_contact.h"
 
 namespace deixis::presence {
@@ -35,6 +36,7 @@ RemoteAvatar::RemoteAvatar(nn::Mpnet mpnet, nn::Ugnet ugnet, const ik::AvatarSol
       T_world_model_(
           ik::T_world_root_from_origin(solver, translator_.config().T_world_avatar_root)),
       touch_contact_(config.touch_contact),
+      gaze_settle_(config.gaze_settle),
       local_(solver.rig.skeleton.rest_local),
       model_(solver.rest_model) {}
 
@@ -64,6 +66,11 @@ bool RemoteAvatar::finish_tick(const LocalTargets& room) {
     targets_.deictic.index_tip += offset;
     targets_.deictic.T_world_wrist.translation += offset;
   }
+  if (gaze_settle_) {
+    targets_.deictic.gaze = settled_gaze(
+        frame_.deictic.gaze, frame_.deictic.T_world_head.translation,
+        room.find_position(frame_.head_target), frame_.person_gaze_off_deg, frame_.head_weight);
+  }
   targets_.other = ik::other_hand_target(frame_.other_wrist_from_head);
 
   ik::AvatarSolveJob job;
@@ -83,6 +90,17 @@ Vec3 RemoteAvatar::eye_midpoint() const {
   const int head = solver_->rig[ik::Bone::kHead];
   const Pose T_world_head = compose(T_world_model_, model_[static_cast<std::size_t>(head)]);
   return T_world_head.rotation * solver_->rig.eye_midpoint_in_head + T_world_head.translation;
+}
+
+Vec3 RemoteAvatar::eye_line_of_sight() const {
+  if (solver_->eye_count == 0) {
+    return gaze();
+  }
+  // The eye job turns each eye from its rest so that the rest pose's forward (−Z) becomes the
+  // line of sight (ik/eye_job.cpp); both eyes look along parallel lines.
+  const auto eye = static_cast<std::size_t>(solver_->eyes[0]);
+  const Mat3 R_model_sight = model_[eye].rotation * solver_->rest_model[eye].rotation.transpose();
+  return T_world_model_.rotation * R_model_sight * Vec3(0, 0, -1);
 }
 
 Vec3 RemoteAvatar::index_fingertip() const {

@@ -7,7 +7,8 @@
 //   TrackingFrame ──Translator──▶ AvatarFrame (end-effectors, world) ──AvatarSolveJob──▶ poses
 //
 // With touch contact on, a touch that UGNet brings within a few centimetres of the object ends on
-// its surface (touch_contact.h).
+// its surface (touch_contact.h); with gaze settling on, a gaze that UGNet brings near this room's
+// copy of its target ends on it (gaze_settle.h).
 //
 // The avatar's root O (paper §IV.A: the eye midpoint H of its upright posture, yaw-only) is placed
 // from where it stands on this room's floor and the rig's own eye height, and its size (for the
@@ -28,6 +29,7 @@ struct RemoteAvatarConfig {
   std::uint32_t noise_seed = 1;  // for a diffusion UGNet
   bool touch_contact = true;     // finish touches on the object's surface (touch_contact.h)
   bool mirrored = false;         // the networks run on the person's mirror image (translator.h)
+  bool gaze_settle = true;       // finish gazes on their target (gaze_settle.h)
 };
 
 // Where the avatar's root O goes for a floor placement: H of the rig's rest pose straight above
@@ -55,6 +57,9 @@ class RemoteAvatar {
 
   bool visible() const { return frame_.ready; }
   const AvatarFrame& frame() const { return frame_; }  // the translator's output this tick
+  // The gaze (unit, world) the avatar's eyes are given this tick: the translator's, settled onto
+  // its target when gaze settling applies (gaze_settle.h).
+  const Vec3& gaze() const { return targets_.deictic.gaze; }
   const ik::AvatarSolveReport& report() const { return report_; }
   const TranslatorStats& stats() const { return translator_.stats(); }
 
@@ -68,12 +73,16 @@ class RemoteAvatar {
   // an observer in this room sees; the end-to-end checks measure these).
   Vec3 eye_midpoint() const;
   Vec3 index_fingertip() const;
+  // The line of sight (unit, world) of the avatar's eyes after IK, clamped to their range; on a
+  // rig without eye joints, the gaze they were given (gaze()).
+  Vec3 eye_line_of_sight() const;
 
  private:
   const ik::AvatarSolver* solver_;
   Translator translator_;
   Pose T_world_model_;
   bool touch_contact_;
+  bool gaze_settle_;
   AvatarFrame frame_;
   ik::AvatarTargets targets_;
   ik::AvatarSolveReport report_;

@@ -16,20 +16,6 @@ float angle_deg(const Vec3& a, const Vec3& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * kDegPerRad;
 }
 
-// Where target `id` is in this room: an object, the other person, a person of the room; null
-// when this room has no copy of it.
-const Vec3* position_here(TargetId id, const LocalTargets& room) {
-  if (id == kPartnerTarget) {
-    return &room.partner_head;
-  }
-  if (is_person_target(id)) {
-    const PersonTarget* person = room.find_person(target_person(id));
-    return person != nullptr ? &person->head : nullptr;
-  }
-  const TargetObject* object = room.map != nullptr ? room.map->find(id) : nullptr;
-  return object != nullptr ? &object->position : nullptr;
-}
-
 // A remote person's gaze, hold by hold: while their own gaze is on their head target in their
 // room (within kSettledDeg), the eyes have settled there; the avatar's error at the last such
 // frame of a hold (once settled for kSettledFrames) is the hold's sample, into storage reserved
@@ -40,12 +26,13 @@ struct GazeWatch {
   TargetId target = kNoTarget;
   std::uint32_t settled = 0;
   double error_deg = 0.0;
+  double network_error_deg = 0.0;
   std::vector<GazeSample> samples;
   std::uint64_t dropped = 0;
 
   void observe(const presence::RemoteAvatar& avatar, const TrackingFrame& frame,
                const LocalTargets& room) {
-    const Vec3* at = position_here(frame.head_target, room);
+    const Vec3* at = room.find_position(frame.head_target);
     if (at == nullptr || frame.head_target != target) {
       end_hold();
     }
@@ -58,13 +45,17 @@ struct GazeWatch {
       return;  // looking elsewhere, or on the way
     }
     ++settled;
+    // The eyes as posed, from where they are after IK; the networks' gaze from their head H.
+    error_deg =
+        static_cast<double>(angle_deg(avatar.eye_line_of_sight(), *at - avatar.eye_midpoint()));
     const EndEffectorPoses& pose = avatar.frame().deictic;
-    error_deg = static_cast<double>(angle_deg(pose.gaze, *at - pose.T_world_head.translation));
+    network_error_deg =
+        static_cast<double>(angle_deg(pose.gaze, *at - pose.T_world_head.translation));
   }
   void end_hold() {
     if (settled >= kSettledFrames) {
       if (samples.size() < samples.capacity()) {
-        samples.push_back({target, error_deg});
+        samples.push_back({target, error_deg, network_error_deg});
       } else {
         ++dropped;
       }
@@ -169,10 +160,14 @@ void RemotePeople::dress(Slot& slot) {
   const MoeNetworks& n = networks_[static_cast<std::size_t>(index(weights))];
   const Pose& T_world_floor = site_.spots[slot.stats.spot].T_world_floor();
   slot.T_world_origin = presence::avatar_origin(solver, T_world_floor);
-  slot.avatar.emplace(n.mpnet, n.ugnet, solver,
-                      presence::RemoteAvatarConfig{slot.body, T_world_floor,
-                                                   static_cast<std::uint32_t>(slot.stats.id),
-                                                   options_.touch_contact, mirrored});
+  slot.avatar.emplace(
+      n.mpnet, n.ugnet, solver,
+      presence::RemoteAvatarConfig{.user = slot.body,
+                                   .T_world_floor = T_world_floor,
+                                   .noise_seed = static_cast<std::uint32_t>(slot.stats.id),
+                                   .touch_contact = options_.touch_contact,
+                                   .mirrored = mirrored,
+                                   .gaze_settle = options_.gaze_settle});
   if (options_.completions > 0) {
     slot.copy.emplace(slot.body, slot.T_world_origin, solver.rig.height);
     if (!slot.observer) {

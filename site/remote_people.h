@@ -44,6 +44,7 @@ struct RemotePeopleOptions {
   // its own).
   std::size_t completions = 0;
   bool touch_contact = true;
+  bool gaze_settle = true;  // false: the networks' own gaze, unsettled (presence/gaze_settle.h)
   // Every remote person wears this avatar here, whatever they chose (a site's local override,
   // `--remote-avatar`); null: the site's own until wear() gives them theirs.
   std::shared_ptr<const PersonAvatar> override_avatar{};

@@ -135,21 +135,26 @@ json completions_json(const std::vector<eval::DeicticSample>& samples) {
 // The mean gaze error over the holds, over those on people (person targets), as JSON numbers
 // (null for none) and the holds themselves.
 json gazes_json(const std::vector<GazeSample>& gazes, json& entry) {
-  double all = 0.0, at_people = 0.0;
+  double all = 0.0, at_people = 0.0, network = 0.0;
   std::size_t people = 0;
   json list = json::array();
   for (const GazeSample& g : gazes) {
     all += g.error_deg;
+    network += g.network_error_deg;
     if (is_person_target(g.target)) {
       at_people += g.error_deg;
       ++people;
     }
-    list.push_back({{"target", g.target}, {"error_deg", number(g.error_deg)}});
+    list.push_back({{"target", g.target},
+                    {"error_deg", number(g.error_deg)},
+                    {"network_error_deg", number(g.network_error_deg)}});
   }
   const double nan = std::numeric_limits<double>::quiet_NaN();
   entry["gaze_count"] = gazes.size();
   entry["gaze_deg"] = number(gazes.empty() ? nan : all / static_cast<double>(gazes.size()));
   entry["gaze_at_people_deg"] = number(people == 0 ? nan : at_people / static_cast<double>(people));
+  entry["gaze_network_deg"] =
+      number(gazes.empty() ? nan : network / static_cast<double>(gazes.size()));
   return list;
 }
 

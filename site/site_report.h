@@ -22,10 +22,13 @@ namespace deixis::site {
 // same site) and the completion states observed of them (eval/deictic_observer.h).
 // Where a remote person's avatar looked when the person's eyes had settled on a target (the last
 // frame of a hold, site/remote_people.cpp): the angle between the avatar's gaze and the ray from
-// its head to this room's copy of the target (an object, the other person, a person of the room).
+// its head to this room's copy of the target (an object, the other person, a person of the room),
+// for the avatar's eyes as posed (their line of sight after gaze settling, presence/gaze_settle.h,
+// and IK, within the eyes' range) and for the networks' own gaze.
 struct GazeSample {
   TargetId target = kNoTarget;
   double error_deg = 0.0;
+  double network_error_deg = 0.0;
 };
 
 // What a remote person's avatar was at the end of their last stay (session.json

@@ -206,8 +206,9 @@ TEST(RoomsLifecycle, TwoRoomsOnOneRelayNeverSeeEachOther) {
 
 // What room Z saw of X looking at Y: X's avatar's gaze error at each hold of X's eyes on Y.
 struct GazesAtY {
-  std::vector<double> error_deg;
-  json record;  // Z's record of X
+  std::vector<double> error_deg;          // the avatar's eyes (settled, presence/gaze_settle.h)
+  std::vector<double> network_error_deg;  // the networks' own gaze
+  json record;                            // Z's record of X
 };
 
 // Three sites `z`, `x`, `y` (site files of assets/sites, sites named as upper-case letters) enter
@@ -266,20 +267,16 @@ GazesAtY x_looks_at_y_seen_from_z(const char* z, const char* x, const char* y,
   for (const json& g : seen.record["gazes"]) {
     if (g["target"].get<TargetId>() == y_target) {
       seen.error_deg.push_back(g["error_deg"].get<double>());
+      seen.network_error_deg.push_back(g["network_error_deg"].get<double>());
     }
   }
   std::printf("in room %s, %s's (subject %s) avatar's gaze at %s's avatar off by", Z.c_str(),
               X.c_str(), x_subject != nullptr ? x_subject : "of the site file", Y.c_str());
-  for (double e : seen.error_deg) {
-    std::printf(" %.1f°", e);
+  for (std::size_t i = 0; i < seen.error_deg.size(); ++i) {
+    std::printf(" %.1f° (networks %.1f°)", seen.error_deg[i], seen.network_error_deg[i]);
   }
   std::printf("\n");
   return seen;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 1e9 : v[v.size() / 2];
 }
 
 // A looks at C; in room B, A's avatar (on B's first spot) turns to C's avatar (on the second)
@@ -294,22 +291,33 @@ TEST(RoomsLifecycle, GazeOfXAtYLandsOnYsAvatarInTheThirdRoom) {
   }
 }
 
-// Known problem (docs/relay.md, decisions 66 and 68): the gaze of a left-handed person (capture
-// subjects 173 and 174: sites B and C) at another person missed by 22–39° with the left-hand
-// weights; through the right-hand weights on their mirror image it lands within 5.3–9.6°, as a
-// right-handed person's does in the mirror layouts (up to 8°), still short of the 5° goal. The
-// first case is the enabled test's, with A's user made left-handed. Run with
-// --gtest_also_run_disabled_tests to see it.
-TEST(RoomsLifecycle, DISABLED_ALeftHandedPersonsGazeAtAPersonLandsToo) {
-  for (const auto& [z, x, y, subject] : {std::tuple{"b.json", "a.json", "c.json", "173"},
-                                         std::tuple{"a.json", "c.json", "b.json", "174"},
-                                         std::tuple{"b.json", "c.json", "a.json", "174"},
-                                         std::tuple{"a.json", "b.json", "c.json", "173"}}) {
+// A left-handed person's gaze at another person lands too (capture subjects 173 and 174: A's
+// user made left-handed, and site C's own). The networks' gaze misses by 6–11° here (through the
+// right-hand weights on the person's mirror image, decision 68; 22–39° with the left-hand
+// weights), and gaze settling (presence/gaze_settle.h, decision 70) brings the avatar's eyes the
+// rest of the way while the person's own eyes are on their target; its turn is bounded by 15°,
+// so a networks' gaze beyond that would show here. The four pairs of decision 66, in two tests
+// that ctest runs side by side.
+void expect_left_handed_gazes_land(
+    std::initializer_list<std::tuple<const char*, const char*, const char*, const char*>> cases) {
+  for (const auto& [z, x, y, subject] : cases) {
     SCOPED_TRACE(std::string(x) + " (subject " + subject + ") looks at " + y + " seen from " + z);
     const GazesAtY seen = x_looks_at_y_seen_from_z(z, x, y, subject);
     EXPECT_GE(seen.error_deg.size(), 2u) << seen.record.dump();
-    EXPECT_LE(median(seen.error_deg), 5.0) << seen.record.dump();
+    for (double e : seen.error_deg) {
+      EXPECT_LE(e, 5.0) << seen.record.dump();
+    }
   }
+}
+
+TEST(RoomsLifecycle, ALeftHandedPersonsGazeAtAPersonLandsToo) {
+  expect_left_handed_gazes_land(
+      {{"b.json", "a.json", "c.json", "173"}, {"a.json", "c.json", "b.json", "174"}});
+}
+
+TEST(RoomsLifecycle, ALeftHandedPersonsGazeAtAPersonLandsTooInTheOtherPairs) {
+  expect_left_handed_gazes_land(
+      {{"b.json", "c.json", "a.json", "174"}, {"a.json", "b.json", "c.json", "173"}});
 }
 
 }  // namespace
