@@ -98,10 +98,11 @@ struct PassphraseFlags {
 };
 
 // The same passphrase options for every command that takes one (host, join, demo, sim, xr);
-// `host`: the command's --host flag (sim, xr), which --open needs; `hosts`: whether the command
-// can host at all (--open is offered only then).
+// `host`: the command's --host flag, which --open needs; `hosts`: whether the command can host at
+// all (--open is offered only then); `open_help`: --open's help when it means more than hosting
+// (sim and xr, which can also enter a room).
 void add_passphrase_flags(CLI::App* cmd, PassphraseFlags& f, bool hosts,
-                          CLI::Option* host = nullptr) {
+                          CLI::Option* host = nullptr, const char* open_help = nullptr) {
   f.text_option = cmd->add_option(
       "--passphrase", f.input.text,
       "The session's passphrase (both sites give the same; peers without it are refused and "
@@ -118,9 +119,11 @@ void add_passphrase_flags(CLI::App* cmd, PassphraseFlags& f, bool hosts,
   if (hosts) {
     CLI::Option* open = cmd->add_flag(
         "--open", f.input.open,
-        "Host without a passphrase although --bind reaches beyond this machine (anything but "
-        "127.x.x.x, e.g. 0.0.0.0): anyone who can reach the port can join and read this site's "
-        "motion. Without a passphrase and without --open, such a host exits 2");
+        open_help != nullptr
+            ? open_help
+            : "Host without a passphrase although --bind reaches beyond this machine (anything "
+              "but 127.x.x.x, e.g. 0.0.0.0): anyone who can reach the port can join and read this "
+              "site's motion. Without a passphrase and without --open, such a host exits 2");
     if (host != nullptr) {
       open->needs(host);
     }
@@ -179,7 +182,13 @@ std::array<CLI::Option*, 3> add_network_flags(CLI::App* cmd, Options& o, Passphr
       ->needs(host);
   // --open: with --host (a host beyond loopback) or --room (an open room through a relay beyond
   // loopback); checked by live_session_ready, as CLI11 cannot say "one of two".
-  add_passphrase_flags(cmd, pass, true);
+  add_passphrase_flags(
+      cmd, pass, true, nullptr,
+      "Go ahead without a passphrase where that exposes this site's motion: with --host, a "
+      "--bind beyond this machine (anything but 127.x.x.x, e.g. 0.0.0.0), where anyone who can "
+      "reach the port can join; with --room, a relay beyond this machine, whose operator and "
+      "anyone on the path can read it. Without a passphrase and without --open, such a site "
+      "exits 2");
   cmd->add_option("--wait", o.wait, "Seconds to wait for the other site, or to enter the room")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 3600.0));

@@ -79,6 +79,9 @@ int run_site(const site::SiteRunOptions& options) {
     site::load_run_avatars(*assets, options);
     user = perform_virtual_user(options, *assets);
     use_site_logger(options, assets->site.site);
+    for (const site::BehindSpot& b : site::behind_spots(assets->site)) {
+      spdlog::warn("{}", site::describe(assets->site, b));
+    }
     std::error_code ec;
     fs::create_directories(options.out_dir, ec);
     if (ec || !fs::is_directory(options.out_dir)) {

@@ -277,6 +277,9 @@ struct XrAssets {
 
 XrAssets load_assets(const XrRunOptions& o) {
   site::SiteConfig site = site::read_site_config(o.site);
+  for (const site::BehindSpot& b : site::behind_spots(site)) {
+    std::fprintf(stderr, "deixis xr: warning: %s\n", site::describe(site, b).c_str());
+  }
   avatar::Avatar avatar = avatar::load_avatar(site.avatar_path);
   ik::AvatarSolver solver = ik::AvatarSolver::build(avatar.rig);
   std::array<Networks, 2> networks = {site::load_moe_networks(o.weights_dir, Hand::kLeft),
@@ -294,11 +297,14 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   const Pose remote_floor = a.site.remote_avatar.T_world_floor();
   std::optional<presence::RemoteAvatar> local_avatar;
   if (a.remote) {
+    const BodyCalibration& person = a.remote->sequence.calibration;
     const Networks& n =
-        a.networks[static_cast<std::size_t>(index(a.remote->sequence.calibration.deictic_hand))];
+        a.networks[static_cast<std::size_t>(index(site::translating_weights(person.deictic_hand)))];
     local_avatar.emplace(
         n.mpnet, n.ugnet, a.solver,
-        presence::RemoteAvatarConfig{a.remote->sequence.calibration, remote_floor, 1, true});
+        presence::RemoteAvatarConfig{.user = person,
+                                     .T_world_floor = remote_floor,
+                                     .mirrored = site::translated_mirrored(person.deictic_hand)});
   }
   // The EGL context the OpenXR session binds to; the views go to the swapchains.
   render::HeadlessContext context(16, 16);

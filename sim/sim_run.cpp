@@ -75,7 +75,10 @@ struct RemoteSide {
         avatar(avatar::load_avatar(glb)),
         solver(ik::AvatarSolver::build(avatar.rig)),
         remote(networks.mpnet, networks.ugnet, solver,
-               presence::RemoteAvatarConfig{user, room.remote_avatar.T_world_floor(), 1, true}) {}
+               presence::RemoteAvatarConfig{
+                   .user = user,
+                   .T_world_floor = room.remote_avatar.T_world_floor(),
+                   .mirrored = site::translated_mirrored(user.deictic_hand)}) {}
   fs::path path;
   avatar::Avatar avatar;
   ik::AvatarSolver solver;
@@ -104,6 +107,11 @@ SimAssets load_assets(const sim::SimOptions& o) {
   SimAssets s;
   s.a = site::read_site_config(o.site_a);
   s.b = site::read_site_config(o.site_b);
+  for (const site::SiteConfig* room : {&s.a, &s.b}) {
+    for (const site::BehindSpot& b : site::behind_spots(*room)) {
+      std::fprintf(stderr, "deixis sim: warning: %s\n", site::describe(*room, b).c_str());
+    }
+  }
   s.user_avatar = avatar::load_avatar(s.a.avatar_path);
   s.user_solver = ik::AvatarSolver::build(s.user_avatar.rig);
   const Pose partner = presence::avatar_origin(*s.user_solver, s.a.remote_avatar.T_world_floor());
@@ -135,7 +143,8 @@ SimAssets load_assets(const sim::SimOptions& o) {
         SimUserScene{s.a.user.T_world_floor(), s.a.target_map.objects, partner.translation}, seed);
     s.calibration = s.user->calibration();
   }
-  s.networks.emplace(site::load_moe_networks(o.weights_dir, s.calibration.deictic_hand));
+  s.networks.emplace(site::load_moe_networks(
+      o.weights_dir, site::translating_weights(s.calibration.deictic_hand)));
   if (!o.fixed_step) {  // the flags' session, or one the panel may start
     s.peer_networks.emplace(
         std::array<site::MoeNetworks, 2>{site::load_moe_networks(o.weights_dir, Hand::kLeft),

@@ -1,6 +1,8 @@
 #include "site/site_config.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "core/io/json_reader.h"
@@ -169,6 +171,48 @@ void parse_remote_avatars(const JsonReader& r, const json& j, const std::filesys
 
 Pose Placement::T_world_floor() const {
   return {yaw_rotation(yaw_degrees * std::numbers::pi_v<float> / 180.0f), floor};
+}
+
+std::vector<BehindSpot> behind_spots(const SiteConfig& site) {
+  std::vector<BehindSpot> out;
+  for (std::size_t i = 0; i < site.spots.size(); ++i) {
+    const Placement& spot = site.spots[i];
+    const float yaw = spot.yaw_degrees * std::numbers::pi_v<float> / 180.0f;
+    const float fx = -std::sin(yaw), fz = -std::cos(yaw);  // the spot's facing (yaw 0: −Z)
+    const auto check = [&](const Vec3& at, std::string what) {
+      const float dx = at.x() - spot.floor.x(), dz = at.z() - spot.floor.z();
+      if (std::hypot(dx, dz) < 1e-3f) {
+        return;
+      }
+      // The signed angle about +Y from the facing to the target: positive toward the avatar's
+      // left (+Y turns −Z toward −X).
+      const float azimuth =
+          std::atan2(fz * dx - fx * dz, fx * dx + fz * dz) * 180.0f / std::numbers::pi_v<float>;
+      if (std::abs(azimuth) > kBehindSpotDegrees) {
+        out.push_back({i, std::move(what), azimuth});
+      }
+    };
+    for (const TargetObject& o : site.target_map.objects) {
+      check(o.position, o.name + " (id " + std::to_string(o.id) + ")");
+    }
+    for (std::size_t k = 0; k < site.spots.size(); ++k) {
+      if (k != i) {
+        check(site.spots[k].floor, "spot " + std::to_string(k + 1));
+      }
+    }
+    check(site.user.floor, "the site's user");
+  }
+  return out;
+}
+
+std::string describe(const SiteConfig& site, const BehindSpot& b) {
+  char angle[32];
+  std::snprintf(angle, sizeof angle, "%.0f", static_cast<double>(std::abs(b.azimuth_degrees)));
+  return site.source + ": " + b.what + " stands " + angle + "° to the " +
+         (b.azimuth_degrees > 0.0f ? "left" : "right") + " of where avatar spot " +
+         std::to_string(b.spot + 1) +
+         " faces: an avatar there turns its upper body only and cannot point at it "
+         "(docs/site-config.md)";
 }
 
 SiteConfig parse_site_config(std::string_view json_text, std::string_view source,

@@ -63,6 +63,21 @@ struct SiteConfig {
   std::optional<VirtualUser> virtual_user;
 };
 
+// What an avatar on one of the site's spots cannot point at: a target of the map, another spot
+// (the person standing there) or the site's own user more than kBehindSpotDegrees to either side
+// of where the spot faces (horizontally, from the spot's floor point). The avatar turns its upper
+// body only (paper §IV.C; IK never drives the hips), so its pointing there ends far off (the
+// demo's rooms: 90–130°, docs/site-config.md). A layout check, not an error: the site still runs.
+inline constexpr float kBehindSpotDegrees = 100.0f;
+struct BehindSpot {
+  std::size_t spot = 0;          // index into SiteConfig::spots
+  std::string what;              // "TV (id 3)", "spot 2", "the site's user"
+  float azimuth_degrees = 0.0f;  // from the spot's facing; positive to the avatar's left
+};
+std::vector<BehindSpot> behind_spots(const SiteConfig& site);
+// One line for a log: the file, what, the angle, the spot (numbered from 1) and what it means.
+std::string describe(const SiteConfig& site, const BehindSpot& b);
+
 // Parses a site configuration; relative paths are resolved against `base_dir` and the target
 // map is read. Throws deixis::Error naming `source` and the field.
 SiteConfig parse_site_config(std::string_view json_text, std::string_view source,

@@ -405,6 +405,16 @@ TEST(DeixisSites, HelpOfEveryCommandExits0) {
     EXPECT_EQ(d.out().find("--room") != std::string::npos, std::string(command) == "join")
         << command;
   }
+  // sim and xr can both host and enter a room: their --open speaks of both.
+  for (const char* command : {"sim", "xr"}) {
+    Deixis d({command, "--help"});
+    EXPECT_EQ(d.wait(), 0) << command;
+    const std::size_t open = d.out().find("\n  --open");
+    ASSERT_NE(open, std::string::npos) << command << d.out();
+    const std::string help = d.out().substr(open, d.out().find("\n  -", open + 1) - open);
+    EXPECT_NE(help.find("--bind"), std::string::npos) << command << help;
+    EXPECT_NE(help.find("relay"), std::string::npos) << command << help;
+  }
 }
 
 TEST(DeixisCommands, AnUnknownCommandExits2NamingIt) {

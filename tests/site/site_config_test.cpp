@@ -153,6 +153,40 @@ TEST(SiteConfig, ASpotListKeepsItsOrder) {
             1u);
 }
 
+// A spot facing +Z (toward the user at the origin) at z = −2: an object at z = −4 stands behind
+// it, one at z = 0 in front of it; a second spot 1.5 m to the first's left is 90° off, within
+// reach. Directions are the avatar's: facing +Z, its left is +X.
+TEST(SiteConfig, TargetsBehindASpotAreFoundWithTheirSide) {
+  const std::string text = with(kOneSpot, R"("remote_avatar": { "avatar": "x.glb", "spots": [
+        { "floor": [0, 0, -2], "yaw_degrees": 180 }, { "floor": [1.5, 0, -2], "yaw_degrees": 180 } ] })");
+  SiteConfig site = parse_site_config(text, "sites/t.json", testing::source_dir() / "assets");
+  site.target_map.objects = {
+      {7, "Lamp", TargetKind::kSphere, Vec3(-0.5f, 1.5f, -4.0f), Vec3::Constant(0.2f)},
+      {8, "Mug", TargetKind::kSphere, Vec3(0.0f, 1.0f, 0.0f), Vec3::Constant(0.1f)}};
+  const std::vector<BehindSpot> behind = behind_spots(site);
+  // Spot 1: the lamp, 166° to its right (−X is the avatar's right); spot 2: the lamp, 135° to its
+  // right. Nothing else: the mug, the user and the other spot are within 100°.
+  ASSERT_EQ(behind.size(), 2u);
+  EXPECT_EQ(behind[0].spot, 0u);
+  EXPECT_EQ(behind[0].what, "Lamp (id 7)");
+  EXPECT_NEAR(behind[0].azimuth_degrees, -(180.0f - std::atan2(0.5f, 2.0f) * 57.29578f), 0.01f);
+  EXPECT_EQ(behind[1].spot, 1u);
+  EXPECT_NEAR(behind[1].azimuth_degrees, -(180.0f - std::atan2(2.0f, 2.0f) * 57.29578f), 0.01f);
+  EXPECT_EQ(describe(site, behind[0]),
+            "sites/t.json: Lamp (id 7) stands 166° to the right of where avatar spot 1 faces: an "
+            "avatar there turns its upper body only and cannot point at it (docs/site-config.md)");
+}
+
+TEST(SiteConfig, RoomAsTvStandsBehindItsFirstSpot) {
+  // The demo's room A (docs/demo.md): its TV stands 139° from where the first spot faces.
+  const SiteConfig a = read_site_config(testing::source_dir() / "assets/sites/a.json");
+  bool tv_behind_first = false;
+  for (const BehindSpot& b : behind_spots(a)) {
+    tv_behind_first = tv_behind_first || (b.spot == 0 && b.what == "TV (id 3)");
+  }
+  EXPECT_TRUE(tv_behind_first);
+}
+
 TEST(SiteConfig, BadSpotsAreNamed) {
   const fs::path base = testing::source_dir() / "assets";
   std::string many;
