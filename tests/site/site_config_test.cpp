@@ -154,24 +154,25 @@ TEST(SiteConfig, ASpotListKeepsItsOrder) {
 }
 
 // A spot facing +Z (toward the user at the origin) at z = −2: an object at z = −4 stands behind
-// it, one at z = 0 in front of it; a second spot 1.5 m to the first's left is 90° off, within
-// reach. Directions are the avatar's: facing +Z, its left is +X.
+// it, one at z = 0 in front of it; a second spot to its left, turned 20° toward it, is 82° off
+// and sees the first 78° to its right: both within reach. Directions are the avatar's: facing
+// +Z, its left is +X.
 TEST(SiteConfig, TargetsBehindASpotAreFoundWithTheirSide) {
   const std::string text = with(kOneSpot, R"("remote_avatar": { "avatar": "x.glb", "spots": [
-        { "floor": [0, 0, -2], "yaw_degrees": 180 }, { "floor": [1.5, 0, -2], "yaw_degrees": 180 } ] })");
+        { "floor": [0, 0, -2], "yaw_degrees": 180 }, { "floor": [1.5, 0, -1.8], "yaw_degrees": 160 } ] })");
   SiteConfig site = parse_site_config(text, "sites/t.json", testing::source_dir() / "assets");
   site.target_map.objects = {
       {7, "Lamp", TargetKind::kSphere, Vec3(-0.5f, 1.5f, -4.0f), Vec3::Constant(0.2f)},
       {8, "Mug", TargetKind::kSphere, Vec3(0.0f, 1.0f, 0.0f), Vec3::Constant(0.1f)}};
   const std::vector<BehindSpot> behind = behind_spots(site);
-  // Spot 1: the lamp, 166° to its right (−X is the avatar's right); spot 2: the lamp, 135° to its
-  // right. Nothing else: the mug, the user and the other spot are within 100°.
+  // Spot 1: the lamp, 166° to its right (−X is the avatar's right); spot 2: the lamp, 118° to its
+  // right. Nothing else: the mug, the user and the other spot are within 90°.
   ASSERT_EQ(behind.size(), 2u);
   EXPECT_EQ(behind[0].spot, 0u);
   EXPECT_EQ(behind[0].what, "Lamp (id 7)");
   EXPECT_NEAR(behind[0].azimuth_degrees, -(180.0f - std::atan2(0.5f, 2.0f) * 57.29578f), 0.01f);
   EXPECT_EQ(behind[1].spot, 1u);
-  EXPECT_NEAR(behind[1].azimuth_degrees, -(180.0f - std::atan2(2.0f, 2.0f) * 57.29578f), 0.01f);
+  EXPECT_NEAR(behind[1].azimuth_degrees, -117.726f, 0.01f);
   EXPECT_EQ(describe(site, behind[0]),
             "sites/t.json: Lamp (id 7) stands 166° to the right of where avatar spot 1 faces: an "
             "avatar there turns its upper body only and cannot point at it (docs/site-config.md)");
