@@ -170,12 +170,14 @@ TEST_F(SimNetworkTest, TheSimulatorHostsAndAJoinerStreamsWithIt) {
 }
 
 TEST_F(SimNetworkTest, AWrongPassphraseIsShownAndEndsWithExitOne) {
-  Deixis b(host("5") + std::vector<std::string>{"--passphrase", "blue whale", "--wait", "5"});
+  // As in AWrongPassphraseTypedInThePanelIsRefused: a host that outwaits a slow start.
+  Deixis b(host("5") + std::vector<std::string>{"--passphrase", "blue whale", "--wait", "30"});
   const int port = b.port();
   ASSERT_GT(port, 0) << b.err();
   Deixis a(sim(port, "4") + std::vector<std::string>{"--passphrase", "green whale"});
   EXPECT_EQ(a.wait(), 1) << a.out() << a.err();
   EXPECT_NE(a.err().find("refused this site: wrong passphrase"), std::string::npos) << a.err();
+  b.send_signal(SIGKILL);
   b.wait();
   // The window ran to its end and wrote what it had: the refusal, nobody in room A.
   const json n = read_json(report())["network"];
@@ -246,12 +248,16 @@ TEST_F(SimNetworkTest, TheSimulatorJoinsAHostFromItsPanel) {
 }
 
 TEST_F(SimNetworkTest, AWrongPassphraseTypedInThePanelIsRefused) {
-  Deixis b(host("5") + std::vector<std::string>{"--passphrase", "blue whale", "--wait", "5"});
+  // The host waits long enough for a simulator slow to start (a loaded machine, sanitizers) and
+  // is stopped once the simulator has been refused: were its wait over first, the simulator
+  // would see the host gone rather than a refusal.
+  Deixis b(host("5") + std::vector<std::string>{"--passphrase", "blue whale", "--wait", "30"});
   const int port = b.port();
   ASSERT_GT(port, 0) << b.err();
   Deixis a(panel_sim(input_file(join_from_panel(0.3, port, "green whale")), "4"));
   EXPECT_EQ(a.wait(), 1) << a.out() << a.err();
   EXPECT_NE(a.err().find("refused this site: wrong passphrase"), std::string::npos) << a.err();
+  b.send_signal(SIGKILL);
   b.wait();
   const json n = read_json(report())["network"];
   EXPECT_EQ(n["role"], "join");
