@@ -7,10 +7,6 @@ namespace deixis {
 
 namespace {
 
-float angle_deg(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * 57.2957795f;
-}
-
 bool finite(const Vec3& v) {
   return v.allFinite();
 }
@@ -197,8 +193,9 @@ void Translator::finish_tick() {
   result_.other_wrist_from_head = last_other_wrist_from_head_;
   result_.other_wrist_from_head.translation /= loop_.scale();
   result_.head_target = last_valid_.head_target;
-  result_.person_gaze_off_deg = angle_deg(
-      last_valid_.gaze, last_valid_.head_target_position - last_valid_.T_world_head.translation);
+  // MPNet's ET^H feature of the same frame (mirror invariant): the angle between the person's
+  // gaze and their head target, in radians.
+  result_.person_gaze_off_deg = input_.user_features[mf::kEyeToHeadTarget] * 57.2957795f;
   result_.hand_target = last_valid_.hand_target;
   result_.progression = step_.progression;
   result_.head_weight = step_.head_weight;

@@ -155,9 +155,9 @@ const ik::AvatarSolver& RemotePeople::solver_of(const Slot& slot) const {
 void RemotePeople::dress(Slot& slot) {
   const ik::AvatarSolver& solver = solver_of(slot);
   // Left-handed people go through the right-hand weights on their mirror image (decision 68).
-  const bool mirrored = translated_mirrored(slot.body.deictic_hand) && !options_.left_hand_weights;
-  const Hand weights =
-      mirrored ? translating_weights(slot.body.deictic_hand) : slot.body.deictic_hand;
+  const Hand weights = options_.left_hand_weights ? slot.body.deictic_hand
+                                                  : translating_weights(slot.body.deictic_hand);
+  const bool mirrored = weights != slot.body.deictic_hand;
   const MoeNetworks& n = networks_[static_cast<std::size_t>(index(weights))];
   const Pose& T_world_floor = site_.spots[slot.stats.spot].T_world_floor();
   slot.T_world_origin = presence::avatar_origin(solver, T_world_floor);
