@@ -163,6 +163,12 @@ int main(int argc, char** argv) {
     goto done;
   }
 
+  char data_dir[4096];
+  size_t data_dir_length = 0;
+  if (deixis_data_dir(data_dir, sizeof data_dir, &data_dir_length) == DEIXIS_OK) {
+    fprintf(stderr, "play_tracking_c: weights and avatar from %s\n", data_dir);
+  }
+
   long tick = 0;
   while (fgets(line, sizeof line, csv) != NULL) {
     const int count = split(line, fields);
