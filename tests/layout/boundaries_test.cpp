@@ -30,12 +30,12 @@ const std::map<std::string, int> kRank = {
     {"core", 0},    {"gesture", 1}, {"ik", 1},      {"net", 1},   {"xr_test_runtime", 1},
     {"dataset", 1}, {"avatar", 2},  {"capture", 2}, {"train", 2}, {"presence", 2},
     {"render", 3},  {"eval", 3},    {"site", 4},    {"xr", 4},    {"sim", 5},
-    {"app", 6},
+    {"app", 6},     {"api", 3},     {"mocap", 1},
 };
 const std::set<std::string> kAboveAll = {"tests", "bench", "fuzz"};
 // What runs in a site (headless, simulator-free, headset): it never links these.
 const std::set<std::string> kRuntime = {"core",   "gesture",  "ik",   "net", "avatar",
-                                        "render", "presence", "site", "xr"};
+                                        "render", "presence", "site", "xr",  "api"};
 const std::set<std::string> kNeverInRuntime = {"capture", "train"};
 
 struct Target {
