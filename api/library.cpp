@@ -44,7 +44,13 @@ std::filesystem::path installed_data_dir() {
   if (dladdr(reinterpret_cast<void*>(&deixis_data_dir), &info) == 0 || info.dli_fname == nullptr) {
     return {};
   }
-  const std::filesystem::path library(info.dli_fname);
+  // The loader keeps the path it was given, which may hold ".." (a Python module's relative
+  // path to the library): resolve it before walking up.
+  std::error_code error;
+  const std::filesystem::path library = std::filesystem::weakly_canonical(info.dli_fname, error);
+  if (error) {
+    return {};
+  }
   return library.parent_path().parent_path() / "share" / "deixis";
 }
 

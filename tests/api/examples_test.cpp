@@ -120,6 +120,17 @@ TEST(Examples, BuiltAgainstTheInstalledPackageTheyPrintWhatTheInTreeTranslatorCo
   EXPECT_NE(said.str().find(fs::weakly_canonical(prefix / "share/deixis").string()),
             std::string::npos)
       << said.str();
+
+#if !defined(DEIXIS_SANITIZED)  // an instrumented library does not load into Python
+  // The installed Python module finds the installed library and its data, nothing else.
+  const std::string python = clean +
+                             "PYTHONPATH=" + (prefix / "lib/python3/dist-packages").string() + " " +
+                             DEIXIS_PYTHON3 + " -c 'import deixis; print(deixis.data_dir()); " +
+                             "print(deixis.Mpnet().run(__import__(\"numpy\").zeros((30, 11))))'";
+  const std::vector<std::string> printed = lines(run(python, log));
+  ASSERT_EQ(printed.size(), 2u);
+  EXPECT_EQ(fs::weakly_canonical(printed[0]), fs::weakly_canonical(prefix / "share/deixis"));
+#endif
 }
 
 }  // namespace
