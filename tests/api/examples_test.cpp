@@ -84,7 +84,7 @@ TEST(Examples, BuiltAgainstTheInstalledPackageTheyPrintWhatTheInTreeTranslatorCo
           " -DCMAKE_CXX_COMPILER=" + DEIXIS_EXAMPLE_CXX +
           " '-DCMAKE_C_FLAGS=-Wall -Wextra -Werror " DEIXIS_EXAMPLE_FLAGS
           "' '-DCMAKE_CXX_FLAGS=-Wall -Wextra -Werror " DEIXIS_EXAMPLE_FLAGS
-          "' '-DCMAKE_EXE_LINKER_FLAGS=" DEIXIS_EXAMPLE_FLAGS "'",
+          "' '-DCMAKE_EXE_LINKER_FLAGS=" DEIXIS_EXAMPLE_LINK_FLAGS "'",
       log);
   run("cmake --build " + build.string(), log);
 
@@ -97,7 +97,7 @@ TEST(Examples, BuiltAgainstTheInstalledPackageTheyPrintWhatTheInTreeTranslatorCo
   const fs::path by_hand = dir.path() / "play_tracking_pc";
   run(std::string(DEIXIS_EXAMPLE_CC) + " -std=c11 -Wall -Wextra -Werror " DEIXIS_EXAMPLE_FLAGS " " +
           (examples / "c/play_tracking.c").string() + " -o " + by_hand.string() + " $(" + pkg +
-          " --cflags --libs deixis) -lm",
+          " --cflags --libs deixis) -lm " DEIXIS_EXAMPLE_LINK_FLAGS,
       log);
 
   // Run each without the build tree's help: no DEIXIS_DATA_DIR, the library found by the
