@@ -22,6 +22,16 @@ namespace deixis {
 // avatar's head) currently is, so it is never listed in a file.
 inline constexpr TargetId kPartnerTarget = 0;
 
+// What a person designates when nothing is designated (kNoTarget, e.g. a headset user in a room
+// before their eyes rest on anything): a point this far along their head's forward. The point is
+// defined by the person's own tracking, so it never travels on the wire (docs/protocol.md §4.8):
+// the sender's selection and every room's translator compute it alike, and the avatar looks and
+// points where the person's head faces, as copying the pose would (docs/decisions.md 72).
+inline constexpr float kNothingAheadM = 2.0f;
+inline Vec3 nothing_designated_point(const Pose& T_world_head) {
+  return transform_point(T_world_head, Vec3(0, 0, -kNothingAheadM));
+}
+
 // A person of a room of several people (docs/target-map.md, "People"): the number the relay gives
 // each member (1–254, net::MemberId), seen from a site. People are targets too, above every
 // object id: person_target(Y) is, in each room, wherever Y's head is there (Y's avatar's head, or

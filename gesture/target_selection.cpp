@@ -13,8 +13,6 @@ float angle_deg(const Vec3& a, const Vec3& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * kDegPerRad;
 }
 
-constexpr float kNobodyAheadM = 2.0f;  // where "the other person" is when there is none
-
 // A candidate's position, or null when it is not one (gone from the room, never there).
 const Vec3* candidate_position(TargetId id, const SelectionCandidates& c) {
   if (id == kPartnerTarget) {
@@ -29,8 +27,9 @@ const Vec3* candidate_position(TargetId id, const SelectionCandidates& c) {
   return object != nullptr ? &object->position : nullptr;
 }
 
-// Where a target is for the frame: the candidate's position, else the other person's head, else
-// a point ahead of the user's head (the target stays "the other person" until one is designated).
+// Where a target is for the frame: the candidate's position, else the other person's head (a
+// direct session's target stays "the other person" until one is designated), else nothing's
+// point ahead of the user's head.
 Vec3 position_of(TargetId id, const SelectionCandidates& c, const Pose& T_world_head) {
   if (const Vec3* p = candidate_position(id, c)) {
     return *p;
@@ -38,7 +37,16 @@ Vec3 position_of(TargetId id, const SelectionCandidates& c, const Pose& T_world_
   if (c.partner_head != nullptr) {
     return *c.partner_head;
   }
-  return transform_point(T_world_head, Vec3(0, 0, -kNobodyAheadM));
+  return nothing_designated_point(T_world_head);
+}
+
+// In a room nobody is "the other person": a target that is not (or no longer) a candidate there,
+// the initial kPartnerTarget included, is nothing designated. A direct session keeps it.
+TargetId in_this_room(TargetId id, const SelectionCandidates& c) {
+  if (c.partner_head != nullptr || candidate_position(id, c) != nullptr) {
+    return id;
+  }
+  return kNoTarget;
 }
 
 // What a person designates with: a ray from `origin` along `direction` (none for a hand held
@@ -121,6 +129,8 @@ TargetSelectionConfig target_selection_for(const BodyCalibration& body) {
 }
 
 void TargetSelector::select(TrackingFrame& frame, const SelectionCandidates& candidates) {
+  head_target = in_this_room(head_target, candidates);
+  hand_target = in_this_room(hand_target, candidates);
   const Vec3 head = frame.T_world_head.translation;
   const bool head_tracked = (frame.valid & tracked::kHead) != 0;
   if (head_tracked) {

@@ -45,8 +45,9 @@ struct TargetSelectionConfig {
 // What a user can designate: the room's objects, the other person of a direct session (null in
 // a room of several people, where nobody is "the other person") and the room's people by id,
 // their heads where this room shows them (`self`, the user's own id, is never a candidate).
-// Until a candidate is designated the targets stay the other person (kPartnerTarget), placed 2 m
-// along the head's forward when there is none.
+// In a direct session the targets stay the other person (kPartnerTarget) until a candidate is
+// designated; in a room they are nothing (kNoTarget: nothing_designated_point, core/target_map.h),
+// and so is a target that left the room.
 struct SelectionCandidates {
   const TargetMap* map = nullptr;
   const Vec3* partner_head = nullptr;

@@ -49,8 +49,7 @@ const Vec3* LocalTargets::find_position(TargetId id) const {
 bool Translator::usable(const TrackingFrame& frame) const {
   const std::uint8_t needed =
       tracked::kHead | tracked::kGaze | tracked::hand(config_.user.deictic_hand);
-  return (frame.valid & needed) == needed && frame.head_target != kNoTarget &&
-         frame.hand_target != kNoTarget && finite(frame) && frame.gaze.norm() > 1e-6f;
+  return (frame.valid & needed) == needed && finite(frame) && frame.gaze.norm() > 1e-6f;
 }
 
 Vec3 Translator::avatar_target_position(TargetId id, const Vec3& user_position,
@@ -59,14 +58,26 @@ Vec3 Translator::avatar_target_position(TargetId id, const Vec3& user_position,
   if (const Vec3* here = room.find_position(id)) {
     return *here;
   }
-  // This room has no copy of the object: keep the user's target where it is relative to the
-  // user's root, seen from the avatar's root (what copying the pose would do).
-  ++stats_.unknown_targets;
+  // Nothing designated, or this room has no copy of the object: keep the user's target where it
+  // is relative to the user's root, seen from the avatar's root (what copying the pose would do).
+  if (id != kNoTarget) {
+    ++stats_.unknown_targets;
+  }
   const Vec3 in_user_root = transform_point(inverse(config_.user.T_world_root), user_position);
   return transform_point(config_.T_world_avatar_root, in_user_root);
 }
 
-TranslationInput Translator::input_for(const TrackingFrame& frame, const LocalTargets& room) {
+TranslationInput Translator::input_for(const TrackingFrame& tracked_frame,
+                                       const LocalTargets& room) {
+  // Nothing designated is a point ahead of the person's head, computed here from their tracking
+  // as their own site did (it does not travel on the wire; core/target_map.h).
+  TrackingFrame frame = tracked_frame;
+  if (frame.head_target == kNoTarget) {
+    frame.head_target_position = nothing_designated_point(frame.T_world_head);
+  }
+  if (frame.hand_target == kNoTarget) {
+    frame.hand_target_position = nothing_designated_point(frame.T_world_head);
+  }
   TranslationInput in;
   in.user_features = mpnet_features(frame, config_.user);
   in.user_x = end_effectors(frame, config_.user);

@@ -227,12 +227,14 @@ TEST(TargetSelection, PointingAtAnAvatarSelectsThatPerson) {
 TEST(TargetSelection, TheUserIsNeverTheirOwnTargetAndAPersonWhoLeftIsDropped) {
   Gathering g;
   // The own user's head is a PersonTarget of the room (for the avatars), never a candidate: a gaze
-  // that passes near nothing keeps the start target, placed ahead of the head.
+  // that passes near nothing designates nothing (a room has no "other person"), its point ahead
+  // of the head.
   TargetSelector selector;
   TrackingFrame f = user(direction(0, 60));
   selector.select(f, g.candidates());
-  EXPECT_EQ(f.head_target, kPartnerTarget);
-  EXPECT_TRUE(f.head_target_position.allFinite());
+  EXPECT_EQ(f.head_target, kNoTarget);
+  EXPECT_EQ(f.hand_target, kNoTarget);
+  EXPECT_LT((f.head_target_position - nothing_designated_point(f.T_world_head)).norm(), 1e-6f);
   TrackingFrame at7 = user(direction(45, 0));
   selector.select(at7, g.candidates());
   ASSERT_EQ(at7.head_target, person_target(7));
@@ -242,6 +244,15 @@ TEST(TargetSelection, TheUserIsNeverTheirOwnTargetAndAPersonWhoLeftIsDropped) {
   TrackingFrame near_old = user(direction(0, -10));
   selector.select(near_old, g.candidates());
   EXPECT_EQ(near_old.head_target, 2);
+  // Whoever the eyes were on leaves while they rest on nothing: nothing is designated, not a
+  // person who is gone (whose id other rooms might still place).
+  TrackingFrame at8 = user(direction(45, 0));
+  selector.select(at8, g.candidates());
+  ASSERT_EQ(at8.head_target, person_target(8));
+  g.people[0].id = 11;
+  TrackingFrame away = user(direction(0, 60));
+  selector.select(away, g.candidates());
+  EXPECT_EQ(away.head_target, kNoTarget);
 }
 
 }  // namespace

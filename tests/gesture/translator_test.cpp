@@ -143,6 +143,35 @@ TEST_F(TranslatorTest, AnObjectThisRoomLacksIsCopiedAndCounted) {
   EXPECT_EQ(translator.stats().held, 0u);
 }
 
+// Nothing designated (kNoTarget, e.g. a headset user in a room looking at nothing) is translated,
+// not held: its point is ahead of the person's head (core/target_map.h), computed here, whatever
+// position the frame carries (the wire carries none), and copied into this room like an object
+// this room lacks, without counting it as unknown.
+TEST_F(TranslatorTest, NothingDesignatedIsTranslatedAsThePointAheadOfTheHead) {
+  Translator copied(translator.mpnet(), translator.ugnet(), config());
+  for (int i = 0; i < 40; ++i) {
+    TrackingFrame nothing = person.frame;
+    nothing.T_world_head.rotation = yaw_rotation(0.02f * static_cast<float>(i));
+    nothing.head_target = nothing.hand_target = kNoTarget;
+    nothing.head_target_position = nothing.hand_target_position = Vec3::Zero();
+    TrackingFrame ahead = nothing;
+    ahead.head_target = ahead.hand_target = 42;  // not in room B: copied
+    ahead.head_target_position = ahead.hand_target_position =
+        nothing_designated_point(nothing.T_world_head);
+    const AvatarFrame a = translator.tick(&nothing, targets);
+    const AvatarFrame b = copied.tick(&ahead, targets);
+    ASSERT_TRUE(a.ready);
+    EXPECT_FALSE(a.held);
+    EXPECT_EQ(a.head_target, kNoTarget);
+    EXPECT_LT((a.deictic.gaze - b.deictic.gaze).norm(), 1e-6f) << i;
+    EXPECT_LT((a.deictic.index_tip - b.deictic.index_tip).norm(), 1e-6f) << i;
+  }
+  EXPECT_EQ(translator.stats().held, 0u);
+  EXPECT_EQ(translator.stats().rejected_frames, 0u);
+  EXPECT_EQ(translator.stats().unknown_targets, 0u);
+  EXPECT_GT(copied.stats().unknown_targets, 0u);
+}
+
 TEST_F(TranslatorTest, ScaleIsTheRatioOfHeights) {
   EXPECT_NEAR(translator.scale(), 1.70f / 1.65f, 1e-6f);
 }
