@@ -457,7 +457,7 @@ class Translator(_Handle):
                                _ct.byref(config))
         self._joint_count = len(avatar.joint_names)
 
-    def tick(self, room, frame=None, **arrays):
+    def tick(self, room, **arrays):
         """One tick. Pass the frame as keyword arrays (head=(7,), gaze=(3,), wrists=(2, 7),
         index_tips=(2, 3), valid=, time=, head_target=, hand_target=, head_target_position=,
         hand_target_position=), or nothing for a frame that did not arrive. Returns a dict of
