@@ -101,6 +101,12 @@ class Translator {
   const TranslatorStats& stats() const { return stats_; }
   float scale() const { return loop_.scale(); }
   const TranslatorConfig& config() const { return config_; }
+  // Moves the avatar's root O (yaw only) from the next tick on. The avatar's end-effectors are
+  // relative to O, so the whole pose moves with it (presence/body_turn.h turns the body this
+  // way); nothing in the windows changes. Allocates nothing.
+  void set_avatar_root(const Pose& T_world_avatar_root) {
+    config_.T_world_avatar_root = T_world_avatar_root;
+  }
 
  private:
   bool usable(const TrackingFrame& frame) const;

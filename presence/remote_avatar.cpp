@@ -1,13 +1,17 @@
 #include "presence/remote_avatar.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "ik/other_arm_job.h"
+#include "presence/body_turn.h"
 #include "presence/gaze_settle.h"
 #include "presence/touch_contact.h"
 
 namespace deixis::presence {
 namespace {
+
+constexpr float kTickSeconds = 1.0f / 30.0f;  // the translation's rate (docs/conventions.md)
 
 TranslatorConfig translator_config(const ik::AvatarSolver& solver,
                                    const RemoteAvatarConfig& config) {
@@ -33,10 +37,12 @@ RemoteAvatar::RemoteAvatar(nn::Mpnet mpnet, nn::Ugnet ugnet, const ik::AvatarSol
                            const RemoteAvatarConfig& config)
     : solver_(&solver),
       translator_(std::move(mpnet), std::move(ugnet), translator_config(solver, config)),
+      T_world_floor_(config.T_world_floor),
       T_world_model_(
           ik::T_world_root_from_origin(solver, translator_.config().T_world_avatar_root)),
       touch_contact_(config.touch_contact),
       gaze_settle_(config.gaze_settle),
+      body_turn_(config.body_turn),
       local_(solver.rig.skeleton.rest_local),
       model_(solver.rest_model) {}
 
@@ -48,7 +54,32 @@ bool RemoteAvatar::tick(const TrackingFrame* frame, const LocalTargets& room) {
 }
 
 bool RemoteAvatar::begin_tick(const TrackingFrame* frame, const LocalTargets& room) {
+  if (body_turn_) {
+    turn_body(room);
+  }
   return translator_.begin_tick(frame, room);
+}
+
+void RemoteAvatar::turn_body(const LocalTargets& room) {
+  // Last tick's designation (this tick's progression is known only once the networks have
+  // run): the hand's target while MPNet reads a deictic gesture at least as far along as a gaze
+  // shift, else the eyes'; the body has turned all the way by the gesture's middle.
+  const Vec3* hand = room.find_position(frame_.hand_target);
+  const Vec3* head = room.find_position(frame_.head_target);
+  const float deictic = frame_.progression[1];
+  const float gaze = frame_.progression[0];
+  const bool by_hand = hand != nullptr && deictic >= gaze;
+  const Vec3* target = by_hand ? hand : head;
+  const float weight = frame_.ready ? std::min(1.0f, 2.0f * (by_hand ? deictic : gaze)) : 0.0f;
+  const float wanted = wanted_turn(avatar_origin(*solver_, T_world_floor_), target, weight);
+  const float next = turned(turn_, wanted, kTickSeconds);
+  if (next == turn_) {
+    return;
+  }
+  turn_ = next;
+  const Pose T_world_turned = compose(T_world_floor_, Pose{yaw_rotation(turn_), Vec3::Zero()});
+  translator_.set_avatar_root(avatar_origin(*solver_, T_world_turned));
+  T_world_model_ = ik::T_world_root_from_origin(*solver_, translator_.config().T_world_avatar_root);
 }
 
 bool RemoteAvatar::finish_tick(const LocalTargets& room) {

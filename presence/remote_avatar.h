@@ -8,7 +8,8 @@
 //
 // With touch contact on, a touch that UGNet brings within a few centimetres of the object ends on
 // its surface (touch_contact.h); with gaze settling on, a gaze that UGNet brings near this room's
-// copy of its target ends on it (gaze_settle.h).
+// copy of its target ends on it (gaze_settle.h); with body turn on, the avatar turns toward a
+// target that stands behind its spot while the person designates it (body_turn.h).
 //
 // The avatar's root O (paper §IV.A: the eye midpoint H of its upright posture, yaw-only) is placed
 // from where it stands on this room's floor and the rig's own eye height, and its size (for the
@@ -30,6 +31,7 @@ struct RemoteAvatarConfig {
   bool touch_contact = true;     // finish touches on the object's surface (touch_contact.h)
   bool mirrored = false;         // the networks run on the person's mirror image (translator.h)
   bool gaze_settle = true;       // finish gazes on their target (gaze_settle.h)
+  bool body_turn = true;         // turn toward targets behind the spot (body_turn.h)
 };
 
 // Where the avatar's root O goes for a floor placement: H of the rig's rest pose straight above
@@ -67,6 +69,8 @@ class RemoteAvatar {
   std::span<const Pose> model_pose() const { return model_; }
   std::span<const Pose> local_pose() const { return local_; }
   const Pose& T_world_model() const { return T_world_model_; }
+  // How far the body is turned from the spot's facing (rad, + to the left; body_turn.h).
+  float body_turn() const { return turn_; }
   const ik::AvatarSolver& solver() const { return *solver_; }
 
   // World positions of the avatar's eye midpoint H and deictic index fingertip after IK (what
@@ -78,11 +82,17 @@ class RemoteAvatar {
   Vec3 eye_line_of_sight() const;
 
  private:
+  // Turns the body for this tick from last tick's designation (body_turn.h).
+  void turn_body(const LocalTargets& room);
+
   const ik::AvatarSolver* solver_;
   Translator translator_;
+  Pose T_world_floor_;  // the spot: where the site placed the avatar
+  float turn_ = 0.0f;   // the body's turn from the spot's facing (rad)
   Pose T_world_model_;
   bool touch_contact_;
   bool gaze_settle_;
+  bool body_turn_;
   AvatarFrame frame_;
   ik::AvatarTargets targets_;
   ik::AvatarSolveReport report_;

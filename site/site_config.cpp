@@ -211,7 +211,7 @@ std::string describe(const SiteConfig& site, const BehindSpot& b) {
   return site.source + ": " + b.what + " stands " + angle + "° to the " +
          (b.azimuth_degrees > 0.0f ? "left" : "right") + " of where avatar spot " +
          std::to_string(b.spot + 1) +
-         " faces: an avatar there turns its upper body only and cannot point at it "
+         " faces: an avatar there turns its body away from the room to look or point at it "
          "(docs/site-config.md)";
 }
 

@@ -63,12 +63,12 @@ struct SiteConfig {
   std::optional<VirtualUser> virtual_user;
 };
 
-// What an avatar on one of the site's spots cannot point at: a target of the map, another spot
-// (the person standing there) or the site's own user behind the avatar's shoulders, more than
-// kBehindSpotDegrees to either side of where the spot faces (horizontally, from the spot's floor
-// point). The avatar turns its upper body only (paper §IV.C; IK never drives the hips), so its
-// pointing there ends far off (in the demo's rooms a target 96° to the side: 94.5° off; one 81°
-// to the side: 5.6°; docs/site-config.md). A layout check, not an error: the site still runs.
+// What stands behind an avatar on one of the site's spots: a target of the map, another spot (the
+// person standing there) or the site's own user more than kBehindSpotDegrees to either side of
+// where the spot faces (horizontally, from the spot's floor point). An avatar designating it
+// turns its body away from the room (presence/body_turn.h; without the turn its pointing there
+// ended far off, e.g. 94.5° for a target 96° to the side; docs/site-config.md). A layout check,
+// not an error: the site still runs.
 inline constexpr float kBehindSpotDegrees = 90.0f;
 struct BehindSpot {
   std::size_t spot = 0;          // index into SiteConfig::spots

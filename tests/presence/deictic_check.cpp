@@ -100,7 +100,8 @@ double mean(const std::vector<double>& v) {
 
 DeicticOutcome run_deictic_check(const std::string& subject_name, capture::Category category,
                                  int count, const ik::AvatarSolver& solver,
-                                 const fs::path& weights_root, const TrackingSource& source) {
+                                 const fs::path& weights_root, const TrackingSource& source,
+                                 const DeicticLayout& layout) {
   const capture::Subject& subject = capture::find_subject(subject_name);
   const fs::path weights = weights_root / (subject.handedness == Hand::kLeft ? "left" : "right");
   const nn::Mpnet mpnet = nn::Mpnet::load(weights / "MPNet(MoE)(AC)80.safetensors");
@@ -112,13 +113,13 @@ DeicticOutcome run_deictic_check(const std::string& subject_name, capture::Categ
         capture::perform(subject, category, 1000 + static_cast<std::uint64_t>(k));
     const Pose T_b_floor = avatar_floor_in_b();
     const float size_ratio = solver.rig.height / subject.height;
-    // Pointing targets move far (a copy would miss by ~35°); touch targets stay within reach.
-    const float turn = (touching ? 25.0f : 35.0f) * kPi / 180;
+    const float turn = (touching ? layout.touching_turn_deg : layout.pointing_turn_deg) * kPi / 180;
     const Pose T_b_origin = avatar_origin(solver, T_b_floor);
     const TargetMap b = room_b(s, T_b_origin, turn, touching ? size_ratio : 1.2f);
     RemoteAvatarConfig config;
     config.user = s.calibration;
     config.T_world_floor = T_b_floor;
+    config.body_turn = layout.body_turn;
     RemoteAvatar avatar(mpnet, ugnet, solver, config);
     config.touch_contact = false;
     RemoteAvatar network_only(mpnet, ugnet, solver, config);

@@ -36,12 +36,22 @@ struct DeicticOutcome {
 // The tracking frames a site receives for a performed sequence, one per capture frame.
 using TrackingSource = std::function<std::vector<TrackingFrame>(const capture::Sequence&)>;
 
+// How room B differs from room A: each object turned about the avatar's root by this many
+// degrees toward and across the front of its body (negative: away from the front, to the side
+// and behind it), and whether the avatar may turn its body (presence/body_turn.h).
+struct DeicticLayout {
+  float pointing_turn_deg = 35.0f;  // a copy misses pointing targets by ~35°
+  float touching_turn_deg = 25.0f;  // touch targets stay within reach
+  bool body_turn = true;
+};
+
 // Runs `count` sequences of `category` by `subject` through the remote avatar in room B, with
 // the MoE weights under `weights_root`/{right,left}.
 DeicticOutcome run_deictic_check(const std::string& subject, capture::Category category, int count,
                                  const ik::AvatarSolver& solver,
                                  const std::filesystem::path& weights_root,
-                                 const TrackingSource& source = {});
+                                 const TrackingSource& source = {},
+                                 const DeicticLayout& layout = {});
 
 // The frames with their head and hand targets chosen by gesture/target_selection.h from the
 // tracking and room A's objects, as a headset user's site does, instead of the capture's labels.

@@ -175,7 +175,8 @@ TEST(SiteConfig, TargetsBehindASpotAreFoundWithTheirSide) {
   EXPECT_NEAR(behind[1].azimuth_degrees, -117.726f, 0.01f);
   EXPECT_EQ(describe(site, behind[0]),
             "sites/t.json: Lamp (id 7) stands 166° to the right of where avatar spot 1 faces: an "
-            "avatar there turns its upper body only and cannot point at it (docs/site-config.md)");
+            "avatar there turns its body away from the room to look or point at it "
+            "(docs/site-config.md)");
 }
 
 TEST(SiteConfig, RoomAsTvStandsBehindItsFirstSpot) {

@@ -1,0 +1,37 @@
+#include "presence/body_turn.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace deixis::presence {
+
+namespace {
+
+constexpr float kRadPerDeg = 3.14159265f / 180.0f;
+
+}  // namespace
+
+float wanted_turn(const Pose& T_world_spot, const Vec3* target, float weight,
+                  const BodyTurnConfig& config) {
+  if (target == nullptr || !(weight > 0.0f)) {
+    return 0.0f;
+  }
+  const Vec3 p = transform_point(inverse(T_world_spot), *target);
+  if (p.x() * p.x() + p.z() * p.z() < 1e-6f) {
+    return 0.0f;  // straight above or below: no direction to turn to
+  }
+  const float azimuth = std::atan2(-p.x(), -p.z());  // + to the left of the facing (−Z)
+  const float beyond = std::abs(azimuth) - config.comfort_deg * kRadPerDeg;
+  if (beyond <= 0.0f) {
+    return 0.0f;
+  }
+  const float turn = std::min(beyond, config.max_turn_deg * kRadPerDeg);
+  return std::copysign(turn, azimuth) * std::min(weight, 1.0f);
+}
+
+float turned(float current, float wanted, float dt, const BodyTurnConfig& config) {
+  const float step = config.speed_deg_per_s * kRadPerDeg * dt;
+  return current + std::clamp(wanted - current, -step, step);
+}
+
+}  // namespace deixis::presence

@@ -1,0 +1,33 @@
+#pragma once
+// Body turn (docs/decisions.md §73): the networks were trained on targets in front of the body
+// (the capture's targets stand within about ±90° of the person's facing), so where this room's
+// copy of a target stands behind the spot an avatar was placed on, its pointing and gaze end far
+// off (a third person's avatar pointing 95–140° wide in the three-room demo). A person asked to
+// point at something behind them turns their body first; the avatar does the same: while the
+// person designates a target (the translator's head and hand blend weights), the avatar's root
+// turns about the vertical, at a bounded speed, until this room's copy stands within
+// `comfort_deg` of its facing, and turns back to the spot's facing as the gesture ends. The
+// networks see the turned root (the avatar's pose is root-relative), so the whole body turns
+// with it, and every target in front of the spot leaves the avatar where the site placed it.
+
+#include "core/math/pose.h"
+
+namespace deixis::presence {
+
+struct BodyTurnConfig {
+  // Targets within this azimuth of the facing need no turn; one further out is brought to it.
+  float comfort_deg = 45.0f;
+  float max_turn_deg = 135.0f;  // the furthest the body turns from the spot's facing
+  float speed_deg_per_s = 150.0f;
+};
+
+// The yaw (rad, + to the left) the body wants for a target at `target` (world; null: none),
+// seen from `T_world_spot` (the spot's origin: position and facing, yaw only), while the person
+// designates with blend weight `weight` (0: nothing designated, the spot's facing; 1: fully).
+float wanted_turn(const Pose& T_world_spot, const Vec3* target, float weight,
+                  const BodyTurnConfig& config = {});
+
+// `current` moved toward `wanted` by at most the config's speed over `dt` seconds.
+float turned(float current, float wanted, float dt, const BodyTurnConfig& config = {});
+
+}  // namespace deixis::presence
