@@ -3,15 +3,11 @@
 #include <cmath>
 #include <limits>
 
+#include "core/math/angles.h"
+
 namespace deixis {
 
 namespace {
-
-constexpr float kDegPerRad = 57.2957795f;
-
-float angle_deg(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * kDegPerRad;
-}
 
 // A candidate's position, or null when it is not one (gone from the room, never there).
 const Vec3* candidate_position(TargetId id, const SelectionCandidates& c) {

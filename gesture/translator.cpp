@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/math/angles.h"
+
 namespace deixis {
 
 namespace {
@@ -206,7 +208,7 @@ void Translator::finish_tick() {
   result_.head_target = last_valid_.head_target;
   // MPNet's ET^H feature of the same frame (mirror invariant): the angle between the person's
   // gaze and their head target, in radians.
-  result_.person_gaze_off_deg = input_.user_features[mf::kEyeToHeadTarget] * 57.2957795f;
+  result_.person_gaze_off_deg = input_.user_features[mf::kEyeToHeadTarget] * kDegPerRad;
   result_.hand_target = last_valid_.hand_target;
   result_.progression = step_.progression;
   result_.head_weight = step_.head_weight;

@@ -3,13 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/math/angles.h"
+
 namespace deixis::presence {
-
-namespace {
-
-constexpr float kRadPerDeg = 3.14159265f / 180.0f;
-
-}  // namespace
 
 float wanted_turn(const Pose& T_world_spot, const Vec3* target, float weight,
                   const BodyTurnConfig& config) {

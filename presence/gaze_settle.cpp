@@ -5,10 +5,10 @@
 
 #include <Eigen/Geometry>
 
+#include "core/math/angles.h"
+
 namespace deixis::presence {
 namespace {
-
-constexpr float kRadPerDeg = 0.0174532925f;
 
 float smoothstep(float x) {
   const float t = std::clamp(x, 0.0f, 1.0f);

@@ -5,16 +5,11 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/math/angles.h"
 
 namespace deixis::site {
 
 namespace {
-
-constexpr float kDegPerRad = 57.2957795f;
-
-float angle_deg(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * kDegPerRad;
-}
 
 // A remote person's gaze, hold by hold: while their own gaze is on their head target in their
 // room (within kSettledDeg), the eyes have settled there; the avatar's error at the last such
