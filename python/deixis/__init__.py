@@ -352,7 +352,9 @@ class Room(_Handle):
     def set_target(self, id, position, size, kind="sphere", name=None):
         if kind not in TARGET_KINDS:
             raise ValueError(f"kind: one of {sorted(TARGET_KINDS)}, got {kind!r}")
-        t = _Target(id, TARGET_KINDS[kind], _vec3(position, "position"), _vec3(size, "size"))
+        if not -2**31 <= int(id) < 2**31:  # ctypes would wrap it silently
+            raise ValueError(f"id: an object id is 1..1000000, got {id}")
+        t = _Target(int(id), TARGET_KINDS[kind], _vec3(position, "position"), _vec3(size, "size"))
         _check(_room_set_target(self._handle, _ct.byref(t), None if name is None else name.encode()),
                lambda: _room_last_error(self._handle))
 
@@ -363,7 +365,9 @@ class Room(_Handle):
         _room_set_partner_head(self._handle, _vec3(head, "head"))
 
     def set_person(self, person, head):
-        _check(_room_set_person(self._handle, person, _vec3(head, "head")),
+        if not 0 <= int(person) <= 255:  # ctypes would wrap it silently
+            raise ValueError(f"person: a person id is 1..254, got {person}")
+        _check(_room_set_person(self._handle, int(person), _vec3(head, "head")),
                lambda: _room_last_error(self._handle))
 
 

@@ -195,6 +195,10 @@ class TranslatorThroughPython(unittest.TestCase):
             room.set_target(0, (0, 1, -1), (0.2, 0.2, 0.2))  # id 0 is the other person
         with self.assertRaises(deixis.DeixisError):
             room.set_person(0, (0, 1.6, 0))
+        with self.assertRaises(ValueError):  # not wrapped around to person 1
+            room.set_person(257, (0, 1.6, 0))
+        with self.assertRaises(ValueError):  # not wrapped around to id 1
+            room.set_target(2**32 + 1, (0, 1, -1), (0.2, 0.2, 0.2))
         room.set_target(4, (0, 1.5, -2), (0.2, 0.2, 0.2), kind="box", name="cube")
         selector = deixis.TargetSelector(deixis.calibrate_upright(head=(0, 1.6, 0, 0, 0, 0, 1)))
         head_target, _, position, _ = selector.select(room, head=(0, 1.6, 0, 0, 0, 0, 1),
