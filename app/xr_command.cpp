@@ -26,6 +26,7 @@
 #include "ik/avatar_solver.h"
 #include "presence/remote_avatar.h"
 #include "render/headless_context.h"
+#include "render/mesh_cache.h"
 #include "render/renderer.h"
 #include "site/live_peer.h"
 #include "site/moe_weights.h"
@@ -88,7 +89,11 @@ class XrSink final : public xr::FrameSink {
  public:
   XrSink(const site::SiteConfig& site, render::Renderer& renderer, render::SkinnedMeshId mesh,
          const Vec3& remote_head_at_rest)
-      : site_(site), renderer_(renderer), mesh_(mesh), remote_head_(remote_head_at_rest) {
+      : site_(site),
+        renderer_(renderer),
+        mesh_(mesh),
+        meshes_(renderer),
+        remote_head_(remote_head_at_rest) {
     avatars_.reserve(site.spots.size());  // one per spot: every remote person at once
   }
 
@@ -119,8 +124,9 @@ class XrSink final : public xr::FrameSink {
     view.camera = camera;
     avatars_.clear();
     for (const presence::RemoteAvatar* avatar : shown_avatars()) {
-      if (avatars_.size() < avatars_.capacity()) {
-        avatars_.push_back({mesh_, avatar->T_world_model(), avatar->model_pose()});
+      const std::optional<render::SkinnedMeshId> mesh = mesh_worn(*avatar);
+      if (mesh && avatars_.size() < avatars_.capacity()) {
+        avatars_.push_back({*mesh, avatar->T_world_model(), avatar->model_pose()});
       }
     }
     view.avatars = avatars_;
@@ -138,8 +144,9 @@ class XrSink final : public xr::FrameSink {
     std::array<site::LivePerson, 16> people;
     const std::size_t n = peer_->list_people(people);
     for (std::size_t k = 0; k < n; ++k) {
-      people_.push_back(
-          {std::string(people[k].site), people[k].frames_played, people[k].visible_ticks});
+      people_.push_back({std::string(people[k].site), people[k].frames_played,
+                         people[k].visible_ticks, std::string(people[k].avatar),
+                         people[k].avatar_joints});
     }
     peer_->close(now);
   }
@@ -162,9 +169,10 @@ class XrSink final : public xr::FrameSink {
                   static_cast<unsigned long long>(n.played),
                   static_cast<unsigned long long>(n.missed));
       for (const PersonLine& p : people_) {
-        std::printf("person %s: frames played %llu, visible in %llu ticks\n", p.site.c_str(),
-                    static_cast<unsigned long long>(p.frames_played),
-                    static_cast<unsigned long long>(p.visible_ticks));
+        std::printf(
+            "person %s: frames played %llu, visible in %llu ticks, wearing %s (%d joints)\n",
+            p.site.c_str(), static_cast<unsigned long long>(p.frames_played),
+            static_cast<unsigned long long>(p.visible_ticks), p.avatar.c_str(), p.avatar_joints);
       }
     }
   }
@@ -231,6 +239,13 @@ class XrSink final : public xr::FrameSink {
     std::fflush(stdout);
   }
 
+  // What a remote person wears here: their chosen avatar (site/remote_people.h), else the
+  // site's; nullopt when more different avatars came than the cache holds (not drawn).
+  std::optional<render::SkinnedMeshId> mesh_worn(const presence::RemoteAvatar& avatar) {
+    const site::PersonAvatar* worn = peer_ ? peer_->people().wearing(avatar) : nullptr;
+    return worn == nullptr ? std::optional(mesh_) : meshes_.get(worn->avatar.mesh);
+  }
+
   std::span<const presence::RemoteAvatar* const> shown_avatars() {
     if (peer_) {
       return peer_->visible();
@@ -243,11 +258,14 @@ class XrSink final : public xr::FrameSink {
   struct PersonLine {
     std::string site;
     std::uint64_t frames_played = 0, visible_ticks = 0;
+    std::string avatar;
+    int avatar_joints = 0;
   };
 
   const site::SiteConfig& site_;
   render::Renderer& renderer_;
   render::SkinnedMeshId mesh_;
+  render::SkinnedMeshCache meshes_;  // the avatars people chose, uploaded once
   Vec3 remote_head_;
   std::optional<LocalRemote> local_;
   std::optional<NetworkSetup> network_;

@@ -27,6 +27,7 @@
 #include "presence/pose_copy.h"
 #include "presence/remote_avatar.h"
 #include "render/image.h"
+#include "render/mesh_cache.h"
 #include "render/window_context.h"
 #include "sim/sim_controls.h"
 #include "sim/sim_history.h"
@@ -179,6 +180,7 @@ class Sim {
         user_copy_(a.calibration, *a.user_solver,
                    presence::avatar_origin(*a.user_solver, a.a.user.T_world_floor())),
         user_mesh_(local_.renderer().add_skinned_mesh(a.user_avatar.mesh)),
+        local_meshes_(local_.renderer()),
         controls_(local_, remote_view_, a.a.target_map, remote_map_, a.user.get()),
         imgui_(window.glfw_window()),
         window_input_(window.glfw_window()),
@@ -427,8 +429,9 @@ class Sim {
     }
     if (network_) {
       for (const presence::RemoteAvatar* other : network_->visible_avatars()) {
-        if (avatars_.size() < avatars_.capacity()) {
-          add_avatar(*other, user_mesh_, a_.a.target_map);
+        const std::optional<render::SkinnedMeshId> mesh = mesh_worn(*other);
+        if (mesh && avatars_.size() < avatars_.capacity()) {
+          add_avatar(*other, *mesh, a_.a.target_map);
         }
       }
     }
@@ -441,6 +444,13 @@ class Sim {
       add_avatar(remote_->remote, remote_->mesh, remote_map_);
     }
     remote_view_.draw(avatars_, lines_, window_height);
+  }
+
+  // What a remote person wears in room A: their chosen avatar (site/remote_people.h), else the
+  // site's; nullopt when more different avatars came than the cache holds (not drawn).
+  std::optional<render::SkinnedMeshId> mesh_worn(const presence::RemoteAvatar& avatar) {
+    const site::PersonAvatar* worn = network_->people_here().wearing(avatar);
+    return worn == nullptr ? std::optional(user_mesh_) : local_meshes_.get(worn->avatar.mesh);
   }
 
   // A translated avatar, with its eye–fingertip ray toward its room's copy while it points.
@@ -458,7 +468,8 @@ class Sim {
     const nlohmann::json network = network_json();
     if (network_) {
       for (const site::LivePerson& p : network_->people()) {
-        network_people_.push_back({std::string(p.site), p.live, p.frames_played, p.visible_ticks});
+        network_people_.push_back({std::string(p.site), p.live, p.frames_played, p.visible_ticks,
+                                   std::string(p.avatar), p.avatar_joints});
       }
       network_->close();
     }
@@ -534,9 +545,11 @@ class Sim {
         static_cast<unsigned long long>(n.played), static_cast<unsigned long long>(n.missed),
         static_cast<unsigned long long>(n.visible_ticks));
     for (const PersonLine& p : network_people_) {
-      std::printf("person %s: frames played %llu, visible in %llu ticks, %s\n", p.site.c_str(),
-                  static_cast<unsigned long long>(p.frames_played),
-                  static_cast<unsigned long long>(p.visible_ticks), p.live ? "live" : "not live");
+      std::printf(
+          "person %s: frames played %llu, visible in %llu ticks, %s, wearing %s (%d joints)\n",
+          p.site.c_str(), static_cast<unsigned long long>(p.frames_played),
+          static_cast<unsigned long long>(p.visible_ticks), p.live ? "live" : "not live",
+          p.avatar.c_str(), p.avatar_joints);
     }
     return network_->error().empty() ? 0 : 1;
   }
@@ -551,7 +564,8 @@ class Sim {
       people.push_back({{"site", p.site},
                         {"live", p.live},
                         {"frames_played", p.frames_played},
-                        {"visible_ticks", p.visible_ticks}});
+                        {"visible_ticks", p.visible_ticks},
+                        {"avatar", {{"source", p.avatar}, {"joints", p.avatar_joints}}}});
     }
     return {{"role", network_panel_.role},
             {"room", network_panel_.room},
@@ -575,6 +589,7 @@ class Sim {
   RoomView remote_view_;
   presence::CopiedAvatar user_copy_;
   render::SkinnedMeshId user_mesh_;
+  render::SkinnedMeshCache local_meshes_;  // the avatars people chose, uploaded once
   SimControls controls_;
   ImGuiLayer imgui_;
   WindowInput window_input_;
@@ -595,6 +610,8 @@ class Sim {
     std::string site;
     bool live = false;
     std::uint64_t frames_played = 0, visible_ticks = 0;
+    std::string avatar;
+    int avatar_joints = 0;
   };
   std::vector<PersonLine> network_people_;  // who was there at the end (printed)
   TrackingFrame user_frame_;

@@ -13,11 +13,16 @@ using Peer = std::variant<SitePeer, RoomPeer>;
 Peer make_peer(const LivePeerOptions& options, const SiteConfig& site, const BodyCalibration& user,
                const std::array<MoeNetworks, 2>& networks, const ik::AvatarSolver& solver,
                double now) {
+  // The front ends draw each person in what they wear (render/mesh_cache.h), so people's chosen
+  // avatars are fetched and worn, as host and join do.
   if (const RoomPeerOptions* room = std::get_if<RoomPeerOptions>(&options)) {
-    return Peer(std::in_place_type<RoomPeer>, *room, site, user, networks, solver, now);
+    RoomPeerOptions wearing = *room;
+    wearing.chosen_avatars = true;
+    return Peer(std::in_place_type<RoomPeer>, wearing, site, user, networks, solver, now);
   }
-  return Peer(std::in_place_type<SitePeer>, std::get<SitePeerOptions>(options), site, user,
-              networks, solver, now);
+  SitePeerOptions wearing = std::get<SitePeerOptions>(options);
+  wearing.chosen_avatars = true;
+  return Peer(std::in_place_type<SitePeer>, wearing, site, user, networks, solver, now);
 }
 
 constexpr std::size_t kSitesReserved = 256;  // bytes: "B,C,…" for a full room without allocating
@@ -115,7 +120,13 @@ std::size_t LivePeer::list_people(std::span<LivePerson> out) const {
     }
     const presence::RemoteAvatar* avatar = people.avatar(id);
     const bool live = std::find(shown.begin(), shown.end(), avatar) != shown.end();
-    out[n++] = LivePerson{s->site, live, s->frames_played, s->visible_ticks};
+    const PersonAvatar* worn = people.wearing(id);
+    out[n++] = LivePerson{s->site,
+                          live,
+                          s->frames_played,
+                          s->visible_ticks,
+                          worn != nullptr ? avatar_source_name(worn->source) : "default",
+                          avatar != nullptr ? avatar->solver().joint_count() : 0};
   };
   if (const RoomPeer* room = std::get_if<RoomPeer>(&peer_)) {
     for (const net::MemberId id : room->session().people()) {

@@ -44,6 +44,8 @@ struct LivePerson {
   bool live = false;  // their avatar is shown (their stream is live and the avatar ready)
   std::uint64_t frames_played = 0;
   std::uint64_t visible_ticks = 0;
+  std::string_view avatar = "default";  // what they wear here (avatar_source_name)
+  int avatar_joints = 0;                // its skeleton's joints
 };
 
 class LivePeer {

@@ -24,9 +24,8 @@ SiteView::SiteView(const SiteConfig& site, const avatar::Avatar& avatar, int vie
   renderer_->set_targets(site.target_map);
   // The user's copy and remote people wear the site's avatar (the site file names one) unless a
   // person wears their own; one uploaded mesh serves them all.
-  mesh_ = renderer_->add_skinned_mesh(avatar.mesh);
-  meshes_.reserve(kMaxMeshes);
-  meshes_.emplace_back(&avatar.mesh, mesh_);
+  meshes_.emplace(*renderer_);
+  mesh_ = *meshes_->get(avatar.mesh);
   avatars_.reserve(std::max<std::size_t>(site.spots.size(), 1));
   lines_.reserve(avatars_.capacity());
   frame_.width = 2 * view_width;
@@ -68,7 +67,7 @@ void SiteView::draw_view(std::span<const AvatarPicture> pictures, int column) {
       break;  // more than the site has spots for: never, as people take spots
     }
     const std::optional<render::SkinnedMeshId> mesh =
-        picture.mesh != nullptr ? mesh_of(picture.mesh) : mesh_;
+        picture.mesh != nullptr ? meshes_->get(*picture.mesh) : mesh_;
     if (!mesh) {
       continue;
     }
@@ -93,19 +92,6 @@ void SiteView::draw_view(std::span<const AvatarPicture> pictures, int column) {
     std::memcpy(frame_.rgb.data() + (static_cast<std::size_t>(y) * 2 + column) * row,
                 view_.rgb.data() + static_cast<std::size_t>(y) * row, row);
   }
-}
-
-std::optional<render::SkinnedMeshId> SiteView::mesh_of(const avatar::SkinnedMesh* mesh) {
-  for (const auto& [known, id] : meshes_) {
-    if (known == mesh) {
-      return id;
-    }
-  }
-  if (meshes_.size() == kMaxMeshes) {
-    return std::nullopt;
-  }
-  meshes_.emplace_back(mesh, renderer_->add_skinned_mesh(*mesh));
-  return meshes_.back().second;
 }
 
 void SiteView::finish() {

@@ -17,6 +17,7 @@
 #include "avatar/avatar_loader.h"
 #include "render/headless_context.h"
 #include "render/image.h"
+#include "render/mesh_cache.h"
 #include "render/renderer.h"
 #include "render/video_writer.h"
 #include "site/site_config.h"
@@ -61,12 +62,11 @@ class SiteView {
   // Finishes the video; throws deixis::Error if ffmpeg failed.
   void finish();
 
-  static constexpr std::size_t kMaxMeshes = 64;
-  std::size_t meshes() const { return meshes_.size(); }  // uploaded, the site's own included
+  static constexpr std::size_t kMaxMeshes = render::SkinnedMeshCache::kMaxMeshes;
+  std::size_t meshes() const { return meshes_->size(); }  // uploaded, the site's own included
 
  private:
   void draw_view(std::span<const AvatarPicture> pictures, int column);
-  std::optional<render::SkinnedMeshId> mesh_of(const avatar::SkinnedMesh* mesh);
 
   int view_width_;
   int view_height_;
@@ -74,7 +74,7 @@ class SiteView {
   render::HeadlessContext context_;
   std::optional<render::Renderer> renderer_;
   render::SkinnedMeshId mesh_;
-  std::vector<std::pair<const avatar::SkinnedMesh*, render::SkinnedMeshId>> meshes_;
+  std::optional<render::SkinnedMeshCache> meshes_;
   std::vector<render::AvatarDraw> avatars_;  // sized at construction: one per spot
   std::vector<render::DebugLine> lines_;
   render::Image view_;   // one view, read back

@@ -3,7 +3,9 @@
 // scripted person wearing the OpenXR test runtime's headset, paced to the wall clock) entering
 // the same room with `deixis xr --connect --room`. Site B lists A as a person whose frames it
 // played, and A's gaze at B's avatar in room A arrives as a gaze at B's own user; the headset's
-// site lists B as a person whose frames it played. Bad room flags exit 2 naming them.
+// site lists B as a person whose frames it played, wearing the avatar B chose (the BCN test rig:
+// the headset's site fetched it over the room and draws B in it). Bad room flags exit 2 naming
+// them.
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -14,6 +16,7 @@
 
 #include "app/deixis_child.h"
 #include "avatar/avatar_loader.h"
+#include "avatar/bcn_rig.h"  // tests/avatar
 #include "capture/subject.h"
 #include "capture/virtual_user.h"
 #include "core/target_map.h"
@@ -82,7 +85,8 @@ TEST_F(XrRoom, TheHeadsetUserAndAJoinedSiteEachListTheOtherAsAPerson) {
   // Site B stays until well after the headset user is done.
   Deixis b({"join", "--connect", relay_at, "--room", "meeting", "--site", site("b.json").string(),
             "--no-video", "--seconds", std::to_string(static_cast<int>(seconds_) + 8), "-o",
-            (dir_.path() / "B").string(), "--weights-dir", weights_dir(), "--wait", "20"});
+            (dir_.path() / "B").string(), "--weights-dir", weights_dir(), "--wait", "20",
+            "--avatar", deixis::testing::bcn_glb().string()});
   ASSERT_TRUE(relay.wait_for_text("(1 now", 60.0)) << relay.out() << relay.err();
   Deixis headset({"xr", "--headless", "--site", site_a_.string(), "--connect", relay_at, "--room",
                   "meeting", "--weights-dir", weights_dir(), "--wait", "20"});
@@ -99,6 +103,9 @@ TEST_F(XrRoom, TheHeadsetUserAndAJoinedSiteEachListTheOtherAsAPerson) {
   ASSERT_NE(at, std::string::npos) << headset.out();
   const int played_b = std::atoi(headset.out().c_str() + at + 24);
   EXPECT_GT(played_b, 60) << headset.out();
+  // B wears the avatar B chose (54 joints; the site's default has another count).
+  EXPECT_NE(headset.out().find("wearing chosen (54 joints)", at), std::string::npos)
+      << headset.out();
 
   // Site B: the headset user (site A) is a person of the room whose frames it played.
   std::ifstream in(dir_.path() / "B/session.json");

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "render/headless_context.h"
+#include "render/mesh_cache.h"
 #include "render/renderer.h"
 #include "render_fixtures.h"
 
@@ -315,6 +316,37 @@ TEST(HeadlessContextTest, ContextsLiveSideBySide) {
   first.reset();  // ends only its own EGL context, not the display the second one uses
   second.make_current();
   EXPECT_TRUE(render_sky(second));
+}
+
+// People wearing the same avatar share one upload; each other avatar is uploaded once, found
+// again by address, and drawn; past kMaxMeshes different meshes the cache says so instead of
+// uploading without bound.
+TEST_F(HeadlessRenderTest, TheMeshCacheUploadsEachAvatarOnce) {
+  SkinnedMeshCache cache(*renderer_);
+  std::vector<SkinnedMesh> meshes(SkinnedMeshCache::kMaxMeshes + 1, arm_mesh(skeleton_));
+  const std::optional<SkinnedMeshId> first = cache.get(meshes[0]);
+  ASSERT_TRUE(first.has_value());
+  EXPECT_EQ(cache.get(meshes[0])->index, first->index);
+  EXPECT_EQ(cache.size(), 1u);
+  const std::optional<SkinnedMeshId> second = cache.get(meshes[1]);
+  ASSERT_TRUE(second.has_value());
+  EXPECT_NE(second->index, first->index);
+  EXPECT_NE(second->index, arm_.index);
+  // The second upload draws like the fixture's own.
+  const std::vector<Pose> rest = rest_model_poses(skeleton_);
+  const Image expected = render_arm(rest);
+  const AvatarDraw avatar{*second, Pose{}, rest};
+  SceneView view = bare_view();
+  view.avatars = {&avatar, 1};
+  renderer_->render(view, context_->target());
+  context_->present();
+  EXPECT_EQ(read_pixels(context_->target()).rgb, expected.rgb);
+  for (std::size_t i = 2; i < SkinnedMeshCache::kMaxMeshes; ++i) {
+    ASSERT_TRUE(cache.get(meshes[i]).has_value()) << i;
+  }
+  EXPECT_EQ(cache.size(), SkinnedMeshCache::kMaxMeshes);
+  EXPECT_FALSE(cache.get(meshes.back()).has_value());
+  EXPECT_EQ(cache.get(meshes[5]).has_value(), true);  // the known ones still answer
 }
 
 }  // namespace

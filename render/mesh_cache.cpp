@@ -1,0 +1,22 @@
+#include "render/mesh_cache.h"
+
+namespace deixis::render {
+
+SkinnedMeshCache::SkinnedMeshCache(Renderer& renderer) : renderer_(&renderer) {
+  meshes_.reserve(kMaxMeshes);
+}
+
+std::optional<SkinnedMeshId> SkinnedMeshCache::get(const SkinnedMesh& mesh) {
+  for (const auto& [known, id] : meshes_) {
+    if (known == &mesh) {
+      return id;
+    }
+  }
+  if (meshes_.size() == kMaxMeshes) {
+    return std::nullopt;
+  }
+  meshes_.emplace_back(&mesh, renderer_->add_skinned_mesh(mesh));
+  return meshes_.back().second;
+}
+
+}  // namespace deixis::render
