@@ -154,14 +154,16 @@ class XrSink final : public xr::FrameSink {
   void print_summary(const xr::FrameLoopResult& r) const {
     std::printf(
         "frames %llu, views rendered %llu, translation ticks %llu (avatar visible in %llu)\n"
-        "headset user tracked: head %llu, gaze %llu, left hand %llu, right hand %llu frames\n",
+        "headset user tracked: head %llu, gaze %llu, left hand %llu, right hand %llu frames\n"
+        "session: focused in %llu frames\n",
         static_cast<unsigned long long>(r.frames),
         static_cast<unsigned long long>(r.rendered_views), static_cast<unsigned long long>(ticks_),
         static_cast<unsigned long long>(visible_ticks_),
         static_cast<unsigned long long>(valid_counts_[0]),
         static_cast<unsigned long long>(valid_counts_[1]),
         static_cast<unsigned long long>(valid_counts_[2]),
-        static_cast<unsigned long long>(valid_counts_[3]));
+        static_cast<unsigned long long>(valid_counts_[3]),
+        static_cast<unsigned long long>(r.focused_frames));
     if (peer_) {
       const site::LivePeerStats& n = peer_->stats();
       std::printf("network: site %s, tracking sent %llu, frames played %llu (%llu missed)\n",

@@ -155,6 +155,9 @@ void FrameLoop::frame(FrameSink& sink, FrameLoopResult& result) {
   XR_CHECK(xi, xrEndFrame(s, &ei));
   ++frame_index_;
   ++result.frames;
+  if (machine_.state == SessionState::kFocused) {
+    ++result.focused_frames;
+  }
 }
 
 }  // namespace deixis::xr

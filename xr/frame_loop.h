@@ -53,6 +53,7 @@ struct FrameLoopOptions {
 struct FrameLoopResult {
   std::uint64_t frames = 0;          // ended
   std::uint64_t rendered_views = 0;  // projection views submitted
+  std::uint64_t focused_frames = 0;  // ended while the session was FOCUSED (input reached us)
   bool lost = false;                 // the session or instance was lost
 };
 

@@ -37,7 +37,9 @@ inline std::string weights_dir() {
 // `deixis` with `args`; standard output and standard error each on a pipe.
 class Deixis {
  public:
-  explicit Deixis(const std::vector<std::string>& args) {
+  explicit Deixis(const std::vector<std::string>& args) : Deixis(DEIXIS_EXE, args) {}
+  // Another program (a wrapper such as tools/monado-env that runs `deixis` in turn).
+  Deixis(const std::string& program, const std::vector<std::string>& args) : program_(program) {
     int out[2];
     int err[2];
     if (pipe(out) != 0 || pipe(err) != 0) {
@@ -50,13 +52,13 @@ class Deixis {
     posix_spawn_file_actions_adddup2(&actions, err[1], STDERR_FILENO);
     posix_spawn_file_actions_addclose(&actions, out[0]);
     posix_spawn_file_actions_addclose(&actions, err[0]);
-    std::vector<char*> argv = {const_cast<char*>(DEIXIS_EXE)};
+    std::vector<char*> argv = {const_cast<char*>(program.c_str())};
     for (const std::string& a : args) {
       argv.push_back(const_cast<char*>(a.c_str()));
     }
     argv.push_back(nullptr);
-    if (posix_spawn(&pid_, DEIXIS_EXE, &actions, nullptr, argv.data(), environ) != 0) {
-      ADD_FAILURE() << "cannot start " << DEIXIS_EXE;
+    if (posix_spawn(&pid_, program.c_str(), &actions, nullptr, argv.data(), environ) != 0) {
+      ADD_FAILURE() << "cannot start " << program;
       pid_ = -1;
     }
     posix_spawn_file_actions_destroy(&actions);
@@ -102,7 +104,7 @@ class Deixis {
     }
     if (Clock::now() >= end) {
       // A child that hangs (a window waiting for nobody) fails its test rather than block it.
-      ADD_FAILURE() << DEIXIS_EXE << " did not finish within the deadline";
+      ADD_FAILURE() << program_ << " did not finish within the deadline";
       kill(pid_, SIGKILL);
     }
     int status = 0;
@@ -168,6 +170,7 @@ class Deixis {
     return true;
   }
 
+  std::string program_;
   pid_t pid_ = -1;
   int fds_[2] = {-1, -1};
   std::string text_[2];
