@@ -66,8 +66,9 @@ class Monado : public ::testing::Test {
     ASSERT_EQ(ensure_code_, 0) << "tools/monado-env ensure failed:\n" << ensure_log_;
   }
 
-  // tools/monado-env run with the repository, the reference data and this test's directory
-  // visible inside the tree at their own paths, then `deixis` with `args`.
+  // tools/monado-env run with the repository, the reference data and the build visible inside
+  // the tree at their own paths (stable ones: each new path leaves a mount point in the tree),
+  // then `deixis` with `args`.
   std::vector<std::string> in_tree(const std::vector<std::string>& args,
                                    const std::vector<std::string>& options = {}) const {
     std::vector<std::string> v = {"run",
@@ -77,8 +78,6 @@ class Monado : public ::testing::Test {
                                   real(deixis::testing::reference_dir()),
                                   "--bind",
                                   real(fs::path(DEIXIS_EXE).parent_path().parent_path()),
-                                  "--bind",
-                                  real(dir_.path()),
                                   "--libs-for",
                                   real(DEIXIS_EXE)};
     v = v + options + std::vector<std::string>{"--", real(DEIXIS_EXE)} + args;
