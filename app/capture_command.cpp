@@ -1,5 +1,6 @@
-// `deixis capture generate|preview|csv|judge`: the synthetic capture's datasets, a picture of
-// one sequence, a CSV view of a dataset, and the authors' MPNet as a judge of the test sets.
+// `deixis capture generate|preview|csv|judge|bvh`: the synthetic capture's datasets, a picture of
+// one sequence, a CSV view of a dataset, the authors' MPNet as a judge of the test sets, and the
+// tracking a BVH recording gives (docs/bvh.md).
 // Exit codes: 0 done, 1 the judge's MPE is above --max-mpe, 2 bad parameters or files.
 
 #include <chrono>
@@ -16,6 +17,8 @@
 #include "dataset/dataset.h"
 #include "eval/judge.h"
 #include "gesture/features.h"
+#include "mocap/bvh.h"
+#include "mocap/skeleton_tracking.h"
 
 namespace deixis::app {
 
@@ -180,6 +183,111 @@ int run_capture_csv(const CaptureCsvOptions& o) {
     return 0;
   } catch (const std::exception& e) {
     return fail("csv", e);
+  }
+}
+
+namespace {
+
+// The tracking columns of `deixis capture csv` (dataset/csv.cpp) that a recording has: no
+// sequence, category, phase, targets, labels or network columns (docs/bvh.md#the-command).
+void write_bvh_header(std::ostream& out) {
+  out << "frame,time,valid";
+  auto vec = [&](const std::string& name, int width) {
+    for (int k = 0; k < width; ++k) {
+      out << ',' << name << '_' << "xyzw"[k];
+    }
+  };
+  vec("head", 3);
+  vec("head_q", 4);
+  vec("gaze", 3);
+  for (const char* hand : {"left", "right"}) {
+    vec(std::string(hand) + "_wrist", 3);
+    vec(std::string(hand) + "_wrist_q", 4);
+    vec(std::string(hand) + "_tip", 3);
+  }
+  out << '\n';
+}
+
+void write_bvh_row(std::ostream& out, std::size_t frame, const TrackingFrame& f) {
+  char buffer[32];
+  auto put = [&](double v) {
+    std::snprintf(buffer, sizeof buffer, ",%.6g", v);
+    out << buffer;
+  };
+  auto vec = [&](const Vec3& v) {
+    for (int k = 0; k < 3; ++k) {
+      put(static_cast<double>(v[k]));
+    }
+  };
+  auto quat = [&](const Mat3& R) {
+    const Quat q(R);
+    for (const float v : {q.x(), q.y(), q.z(), q.w()}) {
+      put(static_cast<double>(v));
+    }
+  };
+  out << frame;
+  put(f.time);
+  out << ',' << static_cast<int>(f.valid);
+  vec(f.T_world_head.translation);
+  quat(f.T_world_head.rotation);
+  vec(f.gaze);
+  for (std::size_t h = 0; h < 2; ++h) {
+    vec(f.T_world_wrist[h].translation);
+    quat(f.T_world_wrist[h].rotation);
+    vec(f.index_tip[h]);
+  }
+  out << '\n';
+}
+
+}  // namespace
+
+int run_capture_bvh(const CaptureBvhOptions& o) {
+  try {
+    const mocap::Bvh bvh = mocap::read_bvh(o.file);
+    mocap::LengthUnit unit = mocap::parse_length_unit(o.unit);
+    if (unit == mocap::LengthUnit::kAuto) {
+      unit = mocap::infer_unit(bvh);
+    }
+    const std::size_t frames = bvh.frames();
+    const std::size_t first = static_cast<std::size_t>(o.from);
+    const std::size_t last = o.to < 0 ? frames : static_cast<std::size_t>(o.to);
+    if (first >= last || last > frames) {
+      throw Error("--from " + std::to_string(o.from) + " --to " + std::to_string(o.to) +
+                  ": the recording has frames 0 to " + std::to_string(frames - 1));
+    }
+    mocap::SkeletonTracking tracking(bvh, mocap::metres_per_unit(unit));
+    const BodyCalibration c = tracking.calibrate();
+    std::fprintf(stderr,
+                 "deixis capture bvh: %s: %zu frames at %.1f Hz, unit %s (rest pose %.3f m), "
+                 "height %.3f m, arm %.3f m (from frame %zu)\n",
+                 o.file.string().c_str(), frames, 1.0 / bvh.frame_time,
+                 std::string(mocap::unit_name(unit)).c_str(), tracking.rest_stature(),
+                 static_cast<double>(c.height), static_cast<double>(c.arm_length),
+                 tracking.upright_frame());
+    std::ofstream file;
+    if (!o.csv.empty()) {
+      file.open(o.csv);
+      if (!file) {
+        throw Error(o.csv.string() + ": cannot open for writing");
+      }
+    }
+    std::ostream& out = o.csv.empty() ? std::cout : file;
+    write_bvh_header(out);
+    TrackingFrame f;
+    const std::size_t step = std::max<std::size_t>(1, (last - first) / 10);
+    for (std::size_t i = first; i < last; ++i) {
+      tracking.track(i, f);
+      write_bvh_row(out, i, f);
+      if ((last - first) > 10000 && (i - first) % step == 0) {
+        std::fprintf(stderr, "  frame %zu of %zu\n", i - first, last - first);
+      }
+    }
+    if (!out) {
+      throw Error((o.csv.empty() ? std::string("stdout") : o.csv.string()) + ": write failed");
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    return fail("bvh", e);
   }
 }
 

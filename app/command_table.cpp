@@ -345,6 +345,26 @@ void add_capture(CLI::App& program, const Invocation&, std::vector<Runner>& runn
   csv_cmd->add_option("-o,--output", csv->output, "Output .csv");
   runners.push_back({csv_cmd, [csv] { return run_capture_csv(*csv); }});
 
+  auto bvh = std::make_shared<CaptureBvhOptions>();
+  CLI::App* bvh_cmd = capture->add_subcommand(
+      "bvh",
+      "Derive the tracking a site would send (head H, gaze, wrists, index tips) from a BVH motion "
+      "recording and write it as CSV with the columns of `capture csv` that exist for it "
+      "(docs/bvh.md); stdout unless --csv");
+  bvh_cmd->add_option("file", bvh->file, "Recording (.bvh)")->required()->check(CLI::ExistingFile);
+  bvh_cmd->add_option("--csv", bvh->csv, "Output .csv");
+  bvh_cmd
+      ->add_option("--unit", bvh->unit,
+                   "Length unit of the file: m, cm, mm, inch, cmu (the CMU conversion's 1/0.45 "
+                   "inch) or auto (from the rest pose's height)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"m", "cm", "mm", "inch", "cmu", "auto"}));
+  bvh_cmd->add_option("--from", bvh->from, "First frame")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  bvh_cmd->add_option("--to", bvh->to, "One past the last frame (default: the end)");
+  runners.push_back({bvh_cmd, [bvh] { return run_capture_bvh(*bvh); }});
+
   auto judge = std::make_shared<CaptureJudgeOptions>();
   judge->reference_dir = default_reference_dir();
   CLI::App* judge_cmd = capture->add_subcommand(

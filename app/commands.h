@@ -65,6 +65,16 @@ struct CaptureCsvOptions {
 };
 int run_capture_csv(const CaptureCsvOptions& options);
 
+// `deixis capture bvh`: the tracking a BVH recording gives (mocap/, docs/bvh.md) as CSV.
+struct CaptureBvhOptions {
+  std::filesystem::path file;
+  std::filesystem::path csv;  // empty: standard output
+  std::string unit = "auto";  // m, cm, mm, inch, cmu, auto
+  long from = 0;              // first frame
+  long to = -1;               // one past the last frame; -1: the end
+};
+int run_capture_bvh(const CaptureBvhOptions& options);
+
 struct CaptureJudgeOptions {
   std::filesystem::path dataset_dir;
   std::filesystem::path reference_dir;
