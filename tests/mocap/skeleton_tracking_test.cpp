@@ -172,6 +172,104 @@ TEST(SkeletonTracking, CalibrationFromTheFirstUprightFrame) {
   EXPECT_THROW(n.calibrate(), Error);
 }
 
+// A recording rewritten with every joint's rotations in `order` (axis indices, 0 = X), turned by
+// `yaw` about +Y at the root, its lengths multiplied by `factor`, and its first `frames` frames.
+Bvh transformed(const Bvh& b, std::array<int, 3> order, double yaw, double factor,
+                std::size_t frames) {
+  Bvh t = b;
+  t.motion.resize(frames * b.channels);
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  for (std::size_t n = 0; n < b.nodes.size(); ++n) {
+    const BvhNode& from = b.nodes[n];
+    BvhNode& to = t.nodes[n];
+    to.offset = from.offset * factor;
+    to.channels.clear();
+    for (const Channel c : from.channels) {
+      if (c <= Channel::kZposition) {
+        to.channels.push_back(c);
+      }
+    }
+    const bool rotates = to.channels.size() < from.channels.size();
+    if (rotates) {
+      for (const int a : order) {
+        to.channels.push_back(static_cast<Channel>(static_cast<int>(Channel::kXrotation) + a));
+      }
+    }
+    for (std::size_t f = 0; f < frames; ++f) {
+      const std::span<const float> row = b.frame(f);
+      float* out = t.motion.data() + f * b.channels + from.first_value;
+      Eigen::Vector3d position = from.offset;
+      for (std::size_t k = 0; k < from.channels.size(); ++k) {
+        if (from.channels[k] <= Channel::kZposition) {
+          position[static_cast<int>(from.channels[k])] +=
+              static_cast<double>(row[static_cast<std::size_t>(from.first_value) + k]);
+        }
+      }
+      Eigen::Matrix3d R = channel_rotation(from, row);
+      if (from.parent < 0) {
+        R = turn * R;
+        position = turn * position;
+      }
+      std::size_t k = 0;
+      for (; k < to.channels.size() && to.channels[k] <= Channel::kZposition; ++k) {
+        const int axis = static_cast<int>(to.channels[k]);
+        out[k] = static_cast<float>((position[axis] - from.offset[axis]) * factor);
+      }
+      if (rotates) {
+        const Eigen::Vector3d e = R.eulerAngles(order[0], order[1], order[2]) * (180 / M_PI);
+        for (int a = 0; a < 3; ++a, ++k) {
+          out[k] = static_cast<float>(e[a]);
+        }
+      }
+    }
+  }
+  return t;
+}
+
+TEST(SkeletonTracking, TransformedDebianRecordingsAgree) {
+  const std::filesystem::path file = kDebian / "01_01.bvh";
+  if (!std::filesystem::exists(file)) {
+    GTEST_SKIP() << "no " << file << " (Debian's assimp-testmodels; tools/install-deps)";
+  }
+  const Bvh b = read_bvh(file);
+  constexpr std::size_t kFrames = 600;
+  SkeletonTracking original(b, metres_per_unit(infer_unit(b)));
+  const double yaw = 0.7;
+  const Mat3 turn = Eigen::AngleAxisf(static_cast<float>(yaw), Vec3::UnitY()).toRotationMatrix();
+  // XYZ order, turned, in metres (written and read again as text); YXZ in centimetres.
+  const Bvh metres = parse_bvh(
+      write_bvh(transformed(b, {0, 1, 2}, yaw, metres_per_unit(LengthUnit::kCmu), kFrames)),
+      "m.bvh");
+  const Bvh cm = transformed(b, {1, 0, 2}, 0.0, metres_per_unit(LengthUnit::kCmu) * 100, kFrames);
+  ASSERT_EQ(infer_unit(metres), LengthUnit::kMetre);
+  ASSERT_EQ(infer_unit(cm), LengthUnit::kCentimetre);
+  SkeletonTracking in_metres(metres, 1.0);
+  SkeletonTracking in_cm(cm, 0.01);
+  TrackingFrame a;
+  TrackingFrame m;
+  TrackingFrame c;
+  for (std::size_t i = 0; i < kFrames; ++i) {
+    original.track(i, a);
+    in_metres.track(i, m);
+    in_cm.track(i, c);
+    expect_near(m.T_world_head.translation, turn * a.T_world_head.translation, 1e-4f, "H");
+    expect_near(m.T_world_head.rotation, turn * a.T_world_head.rotation, 1e-4f, "head");
+    expect_near(c.T_world_head.translation, a.T_world_head.translation, 1e-4f, "H");
+    for (int h = 0; h < 2; ++h) {
+      expect_near(m.T_world_wrist[h].translation, turn * a.T_world_wrist[h].translation, 1e-4f,
+                  "wrist");
+      expect_near(m.T_world_wrist[h].rotation, turn * a.T_world_wrist[h].rotation, 1e-4f,
+                  "wrist rotation");
+      expect_near(m.index_tip[h], turn * a.index_tip[h], 1e-4f, "tip");
+      expect_near(c.T_world_wrist[h].rotation, a.T_world_wrist[h].rotation, 1e-4f, "wrist");
+      expect_near(c.index_tip[h], a.index_tip[h], 1e-4f, "tip");
+    }
+    if (::testing::Test::HasFailure()) {
+      FAIL() << "frame " << i;
+    }
+  }
+}
+
 TEST(SkeletonTracking, TheDebianRecordingsGivePlausibleTracking) {
   for (const char* name : {"01_01.bvh", "01_03.bvh", "Boxing_Toes.bvh"}) {
     if (!std::filesystem::exists(kDebian / name)) {
