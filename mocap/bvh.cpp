@@ -215,11 +215,15 @@ void parse_hierarchy(Cursor& c, Bvh& b, const BvhLimits& limits) {
       open.push_back(static_cast<int>(b.nodes.size()));
       b.nodes.push_back(std::move(node));
       bool has_offset = false;
+      bool has_channels = false;
       // OFFSET and CHANNELS come first, in either order.
       while (true) {
         t = c.expect("'}'");
         BvhNode& n = b.nodes.back();
         if (t == "OFFSET") {
+          if (has_offset) {
+            c.fail(c.token_line(), n.name + " has a second OFFSET");
+          }
           for (int k = 0; k < 3; ++k) {
             n.offset[k] = c.number("OFFSET");
           }
@@ -228,6 +232,10 @@ void parse_hierarchy(Cursor& c, Bvh& b, const BvhLimits& limits) {
           if (n.end_site) {
             c.fail(c.token_line(), "an End Site has no CHANNELS");
           }
+          if (has_channels) {
+            c.fail(c.token_line(), n.name + " has a second CHANNELS");
+          }
+          has_channels = true;
           parse_channels(c, n, b.channels);
         } else {
           break;

@@ -147,6 +147,10 @@ TEST(Bvh, EachCorruptionIsAnErrorNamingItsLine) {
       {"end site channels",
        replace("    OFFSET 0 0 1\n", "    OFFSET 0 0 1\n CHANNELS 1 Xrotation\n"), 17,
        "End Site has no CHANNELS"},
+      {"second channels", replace("  OFFSET 1 0 0\n", "  OFFSET 1 0 0\n  CHANNELS 1 Xrotation\n"),
+       10, "second CHANNELS"},
+      {"second offset", replace("  OFFSET 1 0 0\n", "  OFFSET 1 0 0\n  OFFSET 1 0 0\n"), 9,
+       "second OFFSET"},
       {"no offset", replace("  OFFSET 1 0 0\n", ""), 9, "has no OFFSET"},
       {"ends in the hierarchy", good.substr(0, good.find(" JOINT b")), 10, "the file ends"},
   };
