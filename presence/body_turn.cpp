@@ -7,7 +7,7 @@
 
 namespace deixis::presence {
 
-float wanted_turn(const Pose& T_world_spot, const Vec3* target, float weight,
+float wanted_turn(const Pose& T_world_spot, const Vec3* target, float weight, bool pointing,
                   const BodyTurnConfig& config) {
   if (target == nullptr || !(weight > 0.0f)) {
     return 0.0f;
@@ -17,7 +17,8 @@ float wanted_turn(const Pose& T_world_spot, const Vec3* target, float weight,
     return 0.0f;  // straight above or below: no direction to turn to
   }
   const float azimuth = std::atan2(-p.x(), -p.z());  // + to the left of the facing (−Z)
-  const float beyond = std::abs(azimuth) - config.comfort_deg * kRadPerDeg;
+  const float comfort = pointing ? config.comfort_deg : config.gaze_comfort_deg;
+  const float beyond = std::abs(azimuth) - comfort * kRadPerDeg;
   if (beyond <= 0.0f) {
     return 0.0f;
   }

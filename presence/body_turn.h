@@ -16,15 +16,20 @@ namespace deixis::presence {
 
 struct BodyTurnConfig {
   // Targets within this azimuth of the facing need no turn; one further out is brought to it.
+  // The hand points across the front of the body; the head and eyes alone reach further round
+  // (a person looks at someone 60° to their side without turning: the networks do too, within
+  // the few degrees gaze settling finishes), so a gaze turns the body only past `gaze_comfort_deg`.
   float comfort_deg = 45.0f;
+  float gaze_comfort_deg = 80.0f;
   float max_turn_deg = 135.0f;  // the furthest the body turns from the spot's facing
   float speed_deg_per_s = 150.0f;
 };
 
 // The yaw (rad, + to the left) the body wants for a target at `target` (world; null: none),
 // seen from `T_world_spot` (the spot's origin: position and facing, yaw only), while the person
-// designates with blend weight `weight` (0: nothing designated, the spot's facing; 1: fully).
-float wanted_turn(const Pose& T_world_spot, const Vec3* target, float weight,
+// designates with weight `weight` (0: nothing designated, the spot's facing; 1: fully), with
+// the hand (`pointing`) or with the eyes alone.
+float wanted_turn(const Pose& T_world_spot, const Vec3* target, float weight, bool pointing,
                   const BodyTurnConfig& config = {});
 
 // `current` moved toward `wanted` by at most the config's speed over `dt` seconds.

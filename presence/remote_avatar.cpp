@@ -71,7 +71,8 @@ void RemoteAvatar::turn_body(const LocalTargets& room) {
   const bool by_hand = hand != nullptr && deictic >= gaze;
   const Vec3* target = by_hand ? hand : head;
   const float weight = frame_.ready ? std::min(1.0f, 2.0f * (by_hand ? deictic : gaze)) : 0.0f;
-  const float wanted = wanted_turn(avatar_origin(*solver_, T_world_floor_), target, weight);
+  const float wanted =
+      wanted_turn(avatar_origin(*solver_, T_world_floor_), target, weight, by_hand);
   const float next = turned(turn_, wanted, kTickSeconds);
   if (next == turn_) {
     return;

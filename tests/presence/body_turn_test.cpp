@@ -25,27 +25,36 @@ TEST(BodyTurn, TargetsInFrontTurnNothingAndOnesBehindComeToTheComfortAngle) {
   const Spot s;
   for (float az : {0.0f, 20.0f, -44.9f, 44.9f}) {
     const Vec3 t = s.at(az);
-    EXPECT_EQ(wanted_turn(s.T_world_spot, &t, 1.0f), 0.0f) << az;
+    EXPECT_EQ(wanted_turn(s.T_world_spot, &t, 1.0f, true), 0.0f) << az;
   }
   for (float az : {60.0f, 100.0f, 150.0f, -60.0f, -120.0f}) {
     const Vec3 t = s.at(az);
-    const float turn = wanted_turn(s.T_world_spot, &t, 1.0f);
+    const float turn = wanted_turn(s.T_world_spot, &t, 1.0f, true);
     // After turning, the target stands at the comfort angle on the same side.
     EXPECT_NEAR((az * kDeg - turn) / kDeg, az > 0 ? 45.0f : -45.0f, 0.01f) << az;
   }
   const Vec3 behind = s.at(179.0f);  // capped at the furthest turn
-  EXPECT_NEAR(wanted_turn(s.T_world_spot, &behind, 1.0f) / kDeg, 134.0f, 0.01f);
+  EXPECT_NEAR(wanted_turn(s.T_world_spot, &behind, 1.0f, true) / kDeg, 134.0f, 0.01f);
+}
+
+TEST(BodyTurn, AGazeTurnsTheBodyOnlyPastWhereTheHeadReaches) {
+  const Spot s;
+  const Vec3 aside = s.at(61.0f);
+  EXPECT_EQ(wanted_turn(s.T_world_spot, &aside, 1.0f, false), 0.0f);
+  EXPECT_GT(wanted_turn(s.T_world_spot, &aside, 1.0f, true), 0.0f);
+  const Vec3 behind = s.at(-120.0f);
+  EXPECT_NEAR(wanted_turn(s.T_world_spot, &behind, 1.0f, false) / kDeg, -40.0f, 0.01f);
 }
 
 TEST(BodyTurn, TheTurnFollowsTheDesignationAndNothingTurnsNothing) {
   const Spot s;
   const Vec3 t = s.at(105.0f);
-  EXPECT_NEAR(wanted_turn(s.T_world_spot, &t, 0.5f) / kDeg, 30.0f, 0.01f);
-  EXPECT_EQ(wanted_turn(s.T_world_spot, &t, 0.0f), 0.0f);
-  EXPECT_EQ(wanted_turn(s.T_world_spot, nullptr, 1.0f), 0.0f);
-  EXPECT_EQ(wanted_turn(s.T_world_spot, &t, std::nanf("")), 0.0f);
+  EXPECT_NEAR(wanted_turn(s.T_world_spot, &t, 0.5f, true) / kDeg, 30.0f, 0.01f);
+  EXPECT_EQ(wanted_turn(s.T_world_spot, &t, 0.0f, true), 0.0f);
+  EXPECT_EQ(wanted_turn(s.T_world_spot, nullptr, 1.0f, true), 0.0f);
+  EXPECT_EQ(wanted_turn(s.T_world_spot, &t, std::nanf(""), true), 0.0f);
   const Vec3 above = s.T_world_spot.translation + Vec3(0, 1, 0);  // no direction to turn to
-  EXPECT_EQ(wanted_turn(s.T_world_spot, &above, 1.0f), 0.0f);
+  EXPECT_EQ(wanted_turn(s.T_world_spot, &above, 1.0f, true), 0.0f);
 }
 
 TEST(BodyTurn, TurnsAtBoundedSpeed) {
