@@ -192,19 +192,7 @@ namespace {
 // sequence, category, phase, targets, labels or network columns (docs/bvh.md#the-command).
 void write_bvh_header(std::ostream& out) {
   out << "frame,time,valid";
-  auto vec = [&](const std::string& name, int width) {
-    for (int k = 0; k < width; ++k) {
-      out << ',' << name << '_' << "xyzw"[k];
-    }
-  };
-  vec("head", 3);
-  vec("head_q", 4);
-  vec("gaze", 3);
-  for (const char* hand : {"left", "right"}) {
-    vec(std::string(hand) + "_wrist", 3);
-    vec(std::string(hand) + "_wrist_q", 4);
-    vec(std::string(hand) + "_tip", 3);
-  }
+  dataset::write_tracking_column_names(out);
   out << '\n';
 }
 

@@ -17,21 +17,16 @@ constexpr std::array<const char*, 8> kEndEffectorNames = {"x_gaze",     "x_head_
                                                           "x_head_pos", "x_hand_fwd", "x_hand_up",
                                                           "x_hand_pos", "x_tip"};
 
+void vector_names(std::ostream& out, const std::string& name, int width) {
+  for (int k = 0; k < width; ++k) {
+    out << ',' << name << '_' << "xyzw"[k];
+  }
+}
+
 void header(std::ostream& out) {
   out << "sequence,category,frame,time,valid,phase_key";
-  auto vec = [&](const std::string& name, int width, const char* axes = "xyzw") {
-    for (int k = 0; k < width; ++k) {
-      out << ',' << name << '_' << axes[k];
-    }
-  };
-  vec("head", 3);
-  vec("head_q", 4);
-  vec("gaze", 3);
-  for (const char* hand : {"left", "right"}) {
-    vec(std::string(hand) + "_wrist", 3);
-    vec(std::string(hand) + "_wrist_q", 4);
-    vec(std::string(hand) + "_tip", 3);
-  }
+  write_tracking_column_names(out);
+  const auto vec = [&](const std::string& name, int width) { vector_names(out, name, width); };
   out << ",head_target,hand_target";
   vec("head_target", 3);
   vec("hand_target", 3);
@@ -56,6 +51,17 @@ void values(std::ostream& out, const std::vector<float>& v, std::size_t row, int
 }
 
 }  // namespace
+
+void write_tracking_column_names(std::ostream& out) {
+  vector_names(out, "head", 3);
+  vector_names(out, "head_q", 4);
+  vector_names(out, "gaze", 3);
+  for (const char* hand : {"left", "right"}) {
+    vector_names(out, std::string(hand) + "_wrist", 3);
+    vector_names(out, std::string(hand) + "_wrist_q", 4);
+    vector_names(out, std::string(hand) + "_tip", 3);
+  }
+}
 
 void write_csv(const Dataset& d, std::optional<std::size_t> sequence, std::ostream& out) {
   if (sequence && *sequence >= d.sequences()) {
