@@ -69,17 +69,7 @@ Vec3 Translator::avatar_target_position(TargetId id, const Vec3& user_position,
   return transform_point(config_.T_world_avatar_root, in_user_root);
 }
 
-TranslationInput Translator::input_for(const TrackingFrame& tracked_frame,
-                                       const LocalTargets& room) {
-  // Nothing designated is a point ahead of the person's head, computed here from their tracking
-  // as their own site did (it does not travel on the wire; core/target_map.h).
-  TrackingFrame frame = tracked_frame;
-  if (frame.head_target == kNoTarget) {
-    frame.head_target_position = nothing_designated_point(frame.T_world_head);
-  }
-  if (frame.hand_target == kNoTarget) {
-    frame.hand_target_position = nothing_designated_point(frame.T_world_head);
-  }
+TranslationInput Translator::input_for(const TrackingFrame& frame, const LocalTargets& room) {
   TranslationInput in;
   in.user_features = mpnet_features(frame, config_.user);
   in.user_x = end_effectors(frame, config_.user);
@@ -140,6 +130,14 @@ bool Translator::begin_tick(const TrackingFrame* frame, const LocalTargets& room
   result_.head_weight = result_.hand_weight = 0.0f;
   if (frame != nullptr && usable(*frame)) {
     last_valid_ = *frame;
+    // Nothing designated is a point ahead of the person's head, computed here from their
+    // tracking as their own site did (it does not travel on the wire; core/target_map.h).
+    if (last_valid_.head_target == kNoTarget) {
+      last_valid_.head_target_position = nothing_designated_point(last_valid_.T_world_head);
+    }
+    if (last_valid_.hand_target == kNoTarget) {
+      last_valid_.hand_target_position = nothing_designated_point(last_valid_.T_world_head);
+    }
     const Hand other_hand = other(config_.user.deictic_hand);
     if ((frame->valid & tracked::hand(other_hand)) != 0) {
       const Mat3& R_world_root = config_.user.T_world_root.rotation;
