@@ -581,6 +581,15 @@ void add_xr(CLI::App& program, const Invocation&, std::vector<Runner>& runners) 
                   "The headset user's stature in m (default: from the eye height when the "
                   "session starts)")
       ->check(CLI::Range(1.0, 2.3));
+  cmd->add_option("--avatar", o.avatar,
+                  "The avatar the headset user chose (glTF/GLB, VRM or Mixamo bone names; "
+                  "docs/avatars.md): sent once to the sites met, which show the user wearing it; "
+                  "exit 2 if it does not load")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--remote-avatar", o.remote_avatar,
+                  "Show every remote person wearing this avatar, whatever they chose (a local "
+                  "override; default: their chosen avatar, else the site's own)")
+      ->check(CLI::ExistingFile);
   runners.push_back({cmd, [xr] {
                        XrRunOptions& r = xr->options;
                        if (!live_session_ready("xr", xr->pass, r)) {
@@ -613,7 +622,15 @@ void add_sim(CLI::App& program, const Invocation&, std::vector<Runner>& runners)
       ->capture_default_str()
       ->check(CLI::ExistingFile);
   add_weights_dir_flag(cmd, o.weights_dir);
-  cmd->add_option("--avatar", o.avatar, "The avatar in B (.glb; default: site B's)")
+  cmd->add_option("--avatar", o.avatar,
+                  "The avatar the user chose (glTF/GLB, VRM or Mixamo bone names; "
+                  "docs/avatars.md): their avatar in B wears it, and a session sends it once to "
+                  "the sites met, which show the user wearing it (default: site B's, nothing "
+                  "sent); exit 2 if it does not load")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--remote-avatar", o.remote_avatar,
+                  "Show every other person in A wearing this avatar, whatever they chose (a "
+                  "local override; default: their chosen avatar, else site A's)")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--script", o.script,
                 "The user performs site A's virtual_user script (hands-free)");

@@ -158,8 +158,10 @@ struct XrRunOptions {
   std::string room;  // a room on the relay at address:port (--connect --room); empty: direct
   std::string passphrase;
   double wait = 30.0;
-  std::string hand = "right";  // the headset user's deictic hand
-  float height = 0.0f;         // m; 0: from the eye height at calibration
+  std::string hand = "right";           // the headset user's deictic hand
+  float height = 0.0f;                  // m; 0: from the eye height at calibration
+  std::filesystem::path avatar;         // the user's chosen avatar, offered to the people met
+  std::filesystem::path remote_avatar;  // what every remote person wears here; empty: their choice
 };
 int run_xr(const XrRunOptions& options);
 

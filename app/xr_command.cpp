@@ -81,6 +81,7 @@ struct NetworkSetup {
   UprightBody body;
   const std::array<Networks, 2>* networks = nullptr;
   const ik::AvatarSolver* solver = nullptr;
+  const site::WornAvatars* worn = nullptr;  // the user's choice offered, the local override
 };
 
 // Joins the OpenXR frame loop to the translator and the renderer; allocates nothing per frame
@@ -234,7 +235,7 @@ class XrSink final : public xr::FrameSink {
                 static_cast<double>(calibration.arm_length),
                 calibration.deictic_hand == Hand::kLeft ? "left" : "right");
     peer_.emplace(network_->options, site_, calibration, *network_->networks, *network_->solver,
-                  clock_.now());
+                  *network_->worn, clock_.now());
     if (peer_->port() != 0) {  // a host
       std::printf("port %u\n", static_cast<unsigned>(peer_->port()));
     }
@@ -293,6 +294,7 @@ struct XrAssets {
   ik::AvatarSolver solver;
   std::array<Networks, 2> networks;                  // by the remote person's deictic hand
   std::optional<capture::ScriptPerformance> remote;  // without a network
+  site::WornAvatars worn;  // --avatar offered to the people met, --remote-avatar worn here
 };
 
 XrAssets load_assets(const XrRunOptions& o) {
@@ -309,19 +311,23 @@ XrAssets load_assets(const XrRunOptions& o) {
     remote =
         perform_remote(site::read_site_config(o.remote_site), solver, o.remote_site, o.seconds);
   }
-  return {std::move(site), std::move(avatar), std::move(solver), std::move(networks),
-          std::move(remote)};
+  return {std::move(site),   std::move(avatar),
+          std::move(solver), std::move(networks),
+          std::move(remote), site::load_worn_avatars(o.avatar, o.remote_avatar)};
 }
 
 int run_session(const XrRunOptions& o, XrAssets& a) {
   const Pose remote_floor = a.site.remote_avatar.T_world_floor();
+  // Without a network the remote person wears the override (--remote-avatar) if there is one.
+  const site::PersonAvatar* override_avatar = a.worn.override_avatar.get();
+  const ik::AvatarSolver& local_solver = override_avatar ? override_avatar->solver : a.solver;
   std::optional<presence::RemoteAvatar> local_avatar;
   if (a.remote) {
     const BodyCalibration& person = a.remote->sequence.calibration;
     const Networks& n =
         a.networks[static_cast<std::size_t>(index(site::translating_weights(person.deictic_hand)))];
     local_avatar.emplace(
-        n.mpnet, n.ugnet, a.solver,
+        n.mpnet, n.ugnet, local_solver,
         presence::RemoteAvatarConfig{.user = person,
                                      .T_world_floor = remote_floor,
                                      .mirrored = site::translated_mirrored(person.deictic_hand)});
@@ -330,7 +336,8 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   render::HeadlessContext context(16, 16);
   render::Renderer renderer;
   renderer.set_targets(a.site.target_map);
-  const render::SkinnedMeshId mesh = renderer.add_skinned_mesh(a.avatar.mesh);
+  const render::SkinnedMeshId mesh = renderer.add_skinned_mesh(
+      local_avatar && override_avatar ? override_avatar->avatar.mesh : a.avatar.mesh);
   xr::Instance instance(xr::InstanceOptions{o.headless, true, true, "deixis xr"});
   std::printf("OpenXR: %s; hand tracking %s, eye gaze %s\n", instance.description().c_str(),
               instance.features().hand_tracking ? "yes" : "no (controller poses)",
@@ -339,14 +346,15 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   xr::Swapchains swapchains(instance, session);
   xr::Input input(instance, session);
   xr::FrameLoop loop(instance, session, swapchains, input);
-  XrSink sink(a.site, renderer, mesh, presence::avatar_origin(a.solver, remote_floor).translation);
+  XrSink sink(a.site, renderer, mesh,
+              presence::avatar_origin(local_solver, remote_floor).translation);
   if (local_avatar) {
     sink.use_local({*a.remote, *local_avatar});
   } else {
     sink.use_network(
         {site::live_peer_options(o.host, o.address, o.port, o.room, o.passphrase, o.wait),
          UprightBody{o.hand == "left" ? Hand::kLeft : Hand::kRight, o.height, 0}, &a.networks,
-         &a.solver});
+         &a.solver, &a.worn});
   }
   xr::FrameLoopOptions options;
   options.seconds = o.seconds;

@@ -30,11 +30,11 @@ bool hosts(const site::LivePeerOptions& options) {
 SimNetwork::SimNetwork(const site::LivePeerOptions& options, const site::SiteConfig& site,
                        const BodyCalibration& user,
                        const std::array<site::MoeNetworks, 2>& networks,
-                       const ik::AvatarSolver& solver)
+                       const ik::AvatarSolver& solver, const site::WornAvatars& worn)
     : options_(options) {
   std::tie(address_, port_) = endpoint_of(options_);
   try {
-    peer_.emplace(options_, site, user, networks, solver, clock_.now());
+    peer_.emplace(options_, site, user, networks, solver, worn, clock_.now());
     if (hosts(options_)) {
       port_ = peer_->port();  // the bound one (--port 0 picks it), shown after a failure too
       std::printf("port %u\n", static_cast<unsigned>(port_));

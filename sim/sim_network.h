@@ -26,10 +26,11 @@ namespace deixis::sim {
 class SimNetwork {
  public:
   // Starts hosting (prints "port N" on stdout), joining or entering the room at once. `site`,
-  // `networks` and `solver` (the avatar the other people wear here) must outlive this.
+  // `networks` and `solver` (the avatar the other people wear here) must outlive this. `worn`:
+  // the user's chosen avatar, offered to the others, and the local override (site/live_peer.h).
   SimNetwork(const site::LivePeerOptions& options, const site::SiteConfig& site,
              const BodyCalibration& user, const std::array<site::MoeNetworks, 2>& networks,
-             const ik::AvatarSolver& solver);
+             const ik::AvatarSolver& solver, const site::WornAvatars& worn);
 
   // One 30 Hz tick: `user` (with the targets they selected) goes out, the other people's frames
   // that are due play into their avatars, which look at this site's user in `room` (and, in a

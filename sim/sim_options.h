@@ -19,8 +19,11 @@ struct SimOptions {
   std::filesystem::path site_a;
   std::filesystem::path site_b;
   std::filesystem::path weights_dir;
-  std::filesystem::path avatar;      // the avatar in B (.glb); empty: site B's
-  bool script = false;               // the user performs site A's virtual_user script
+  // The avatar the user chose (.glb/.gltf): their avatar in B wears it, and a session offers it to
+  // the sites met (they show the user wearing it); empty: site B's, and nothing offered.
+  std::filesystem::path avatar;
+  std::filesystem::path remote_avatar;  // what every other person wears in A; empty: their choice
+  bool script = false;                  // the user performs site A's virtual_user script
   std::filesystem::path input;       // scripted events (JSON); fixed steps until a session starts
   bool fixed_step = false;           // every frame advances the simulator by one 30 Hz tick
   std::uint64_t frames = 0;          // quit after this many frames (0: no limit)

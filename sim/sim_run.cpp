@@ -102,6 +102,7 @@ struct SimAssets {
   std::optional<ScriptedInput> input;
   BodyCalibration calibration;
   fs::path remote_avatar_path;
+  site::WornAvatars worn;  // --avatar offered to the people met, --remote-avatar worn by them here
 };
 
 SimAssets load_assets(const sim::SimOptions& o) {
@@ -155,6 +156,7 @@ SimAssets load_assets(const sim::SimOptions& o) {
     s.input.emplace(read_input_script(o.input));
   }
   s.remote_avatar_path = o.avatar.empty() ? s.b.avatar_path : o.avatar;
+  s.worn = site::load_worn_avatars(o.avatar, o.remote_avatar);
   return s;
 }
 
@@ -233,7 +235,7 @@ class Sim {
   void start_network(const site::LivePeerOptions& options) {
     network_.reset();  // the last session, failed or left
     form_problem_.clear();
-    network_.emplace(options, a_.a, a_.calibration, *a_.peer_networks, *a_.user_solver);
+    network_.emplace(options, a_.a, a_.calibration, *a_.peer_networks, *a_.user_solver, a_.worn);
     network_panel_ = network_->panel();
     time_.follow_wall_clock();
   }

@@ -159,6 +159,17 @@ std::shared_ptr<const PersonAvatar> load_person_avatar(
   return loaded;
 }
 
+WornAvatars load_worn_avatars(const fs::path& chosen, const fs::path& override_file) {
+  WornAvatars worn;
+  if (!chosen.empty()) {
+    load_person_avatar(chosen, AvatarSource::kChosen, &worn.own_file);
+  }
+  if (!override_file.empty()) {
+    worn.override_avatar = load_person_avatar(override_file, AvatarSource::kOverride);
+  }
+  return worn;
+}
+
 // ---------------------------------------------------------------- ChosenAvatars
 
 struct ChosenAvatars::Person {

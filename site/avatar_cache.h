@@ -80,6 +80,19 @@ std::shared_ptr<const PersonAvatar> load_person_avatar(
     const std::filesystem::path& file, AvatarSource kind,
     std::shared_ptr<const std::vector<std::byte>>* bytes = nullptr);
 
+// What a person's flags ask their site to wear and show (`--avatar` and `--remote-avatar` of
+// host, join, sim and xr; docs/avatars.md): the file they chose, offered by its hash to the sites
+// they meet, and the local override every remote person wears here. Empty paths: neither.
+struct WornAvatars {
+  std::shared_ptr<const std::vector<std::byte>> own_file{};
+  std::shared_ptr<const PersonAvatar> override_avatar{};
+};
+// Loads both as every other site would load them (load_person_avatar), so that a file they
+// could not show is refused before connecting rather than found out by each of them; throws
+// deixis::Error naming the file.
+WornAvatars load_worn_avatars(const std::filesystem::path& chosen,
+                              const std::filesystem::path& override_file);
+
 // The avatars remote people chose, from their hello's hash to an avatar they wear here
 // (docs/avatars.md, "A person's own avatar"): looked up in the cache, else asked for (once per
 // person and session) and stored once downloaded. Files are read, hashed and loaded on a

@@ -10,19 +10,25 @@ using Peer = std::variant<SitePeer, RoomPeer>;
 
 // Neither runtime moves (they own sockets and are pointed at), so the variant is built in place
 // and returned as a prvalue (no move needed).
+// The front ends draw each person in what they wear (render/mesh_cache.h), so people's chosen
+// avatars are fetched and worn, as host and join do, and the user's own is offered.
+template <class Options>
+Options wearing(Options options, const WornAvatars& worn) {
+  options.chosen_avatars = true;
+  options.avatar_file = worn.own_file;
+  options.people.override_avatar = worn.override_avatar;
+  return options;
+}
+
 Peer make_peer(const LivePeerOptions& options, const SiteConfig& site, const BodyCalibration& user,
                const std::array<MoeNetworks, 2>& networks, const ik::AvatarSolver& solver,
-               double now) {
-  // The front ends draw each person in what they wear (render/mesh_cache.h), so people's chosen
-  // avatars are fetched and worn, as host and join do.
+               const WornAvatars& worn, double now) {
   if (const RoomPeerOptions* room = std::get_if<RoomPeerOptions>(&options)) {
-    RoomPeerOptions wearing = *room;
-    wearing.chosen_avatars = true;
-    return Peer(std::in_place_type<RoomPeer>, wearing, site, user, networks, solver, now);
+    return Peer(std::in_place_type<RoomPeer>, wearing(*room, worn), site, user, networks, solver,
+                now);
   }
-  SitePeerOptions wearing = std::get<SitePeerOptions>(options);
-  wearing.chosen_avatars = true;
-  return Peer(std::in_place_type<SitePeer>, wearing, site, user, networks, solver, now);
+  return Peer(std::in_place_type<SitePeer>, wearing(std::get<SitePeerOptions>(options), worn), site,
+              user, networks, solver, now);
 }
 
 constexpr std::size_t kSitesReserved = 256;  // bytes: "B,C,…" for a full room without allocating
@@ -47,8 +53,8 @@ LivePeerOptions live_peer_options(bool host, const std::string& address, std::ui
 
 LivePeer::LivePeer(const LivePeerOptions& options, const SiteConfig& site,
                    const BodyCalibration& user, const std::array<MoeNetworks, 2>& networks,
-                   const ik::AvatarSolver& solver, double now)
-    : peer_(make_peer(options, site, user, networks, solver, now)),
+                   const ik::AvatarSolver& solver, const WornAvatars& worn, double now)
+    : peer_(make_peer(options, site, user, networks, solver, worn, now)),
       host_(std::holds_alternative<SitePeerOptions>(options) &&
             std::get<SitePeerOptions>(options).role == net::Role::kHost) {
   stats_.peer_site.reserve(kSitesReserved);

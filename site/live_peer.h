@@ -51,9 +51,12 @@ struct LivePerson {
 class LivePeer {
  public:
   // Starts the runtime `options` names (a direct host binds, a joiner or a room member sends its
-  // first packet); throws deixis::Error as SitePeer's and RoomPeer's constructors do.
+  // first packet); throws deixis::Error as SitePeer's and RoomPeer's constructors do. The user
+  // offers `worn.own_file` to the people they meet; everyone here wears `worn.override_avatar`
+  // when set, else what they chose (fetched as host and join do).
   LivePeer(const LivePeerOptions& options, const SiteConfig& site, const BodyCalibration& user,
-           const std::array<MoeNetworks, 2>& networks, const ik::AvatarSolver& solver, double now);
+           const std::array<MoeNetworks, 2>& networks, const ik::AvatarSolver& solver,
+           const WornAvatars& worn, double now);
   LivePeer(const LivePeer&) = delete;
   LivePeer& operator=(const LivePeer&) = delete;
 

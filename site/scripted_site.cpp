@@ -334,19 +334,12 @@ SiteAssets load_site_assets(SiteConfig site, const std::filesystem::path& weight
                                          load_moe_networks(weights_dir, Hand::kRight)};
   const Pose user_origin = presence::avatar_origin(solver, site.user.T_world_floor());
   const Pose remote_origin = presence::avatar_origin(solver, site.remote_avatar.T_world_floor());
-  return {std::move(site),     std::move(avatar), std::move(solver),
-          std::move(networks), user_origin,       remote_origin};
+  return {std::move(site), std::move(avatar), std::move(solver), std::move(networks),
+          user_origin,     remote_origin,     WornAvatars{}};
 }
 
 void load_run_avatars(SiteAssets& assets, const SiteRunOptions& o) {
-  if (!o.avatar.empty()) {
-    // Loaded here as every other site will load it, so that a file they could not show is
-    // refused before connecting rather than found out by each of them.
-    load_person_avatar(o.avatar, AvatarSource::kChosen, &assets.own_avatar_file);
-  }
-  if (!o.remote_avatar.empty()) {
-    assets.remote_override = load_person_avatar(o.remote_avatar, AvatarSource::kOverride);
-  }
+  assets.worn = load_worn_avatars(o.avatar, o.remote_avatar);
 }
 
 namespace {
@@ -388,8 +381,8 @@ SiteRecord run_scripted_site(const SiteRunOptions& o, const SiteAssets& assets,
     room.wait = o.wait;
     room.drop_tracking = o.drop_tracking;
     room.people.completions = kMaxCompletions;
-    room.people.override_avatar = assets.remote_override;
-    room.avatar_file = assets.own_avatar_file;
+    room.people.override_avatar = assets.worn.override_avatar;
+    room.avatar_file = assets.worn.own_file;
     room.chosen_avatars = true;  // this loop draws each person in what they wear
     room.avatar_cache = AvatarCache::default_dir();
     RoomPeer peer(room, assets.site, user.body, assets.networks, assets.solver, clock.now());
@@ -397,8 +390,8 @@ SiteRecord run_scripted_site(const SiteRunOptions& o, const SiteAssets& assets,
   }
   SitePeerOptions peer_options{o.host ? net::Role::kHost : net::Role::kJoiner, o.address, o.port,
                                o.passphrase, o.wait};
-  peer_options.people.override_avatar = assets.remote_override;
-  peer_options.avatar_file = assets.own_avatar_file;
+  peer_options.people.override_avatar = assets.worn.override_avatar;
+  peer_options.avatar_file = assets.worn.own_file;
   peer_options.chosen_avatars = true;
   peer_options.avatar_cache = AvatarCache::default_dir();
   SitePeer peer(peer_options, assets.site, user.body, assets.networks, assets.solver, clock.now());

@@ -60,10 +60,9 @@ struct SiteAssets {
   std::array<MoeNetworks, 2> networks;  // by the remote person's deictic hand
   Pose T_world_user_origin;             // the user's copy stands where the user does
   Pose T_world_remote_origin;           // the remote person's avatar
-  // The user's chosen avatar file (--avatar), offered to the others; null: none.
-  std::shared_ptr<const std::vector<std::byte>> own_avatar_file{};
-  // What every remote person wears here (--remote-avatar); null: what they chose.
-  std::shared_ptr<const PersonAvatar> remote_override{};
+  // The user's chosen avatar file (--avatar), offered to the others, and what every remote
+  // person wears here (--remote-avatar); null: none, and what they chose.
+  WornAvatars worn;
 };
 // Throws deixis::Error naming the file for a bad avatar or weights.
 SiteAssets load_site_assets(SiteConfig site, const std::filesystem::path& weights_dir);
