@@ -4,6 +4,7 @@
 // Exit codes: 0 done, 1 the judge's MPE is above --max-mpe, 2 bad parameters or files.
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -18,6 +19,7 @@
 #include "eval/judge.h"
 #include "gesture/features.h"
 #include "mocap/bvh.h"
+#include "mocap/player.h"
 #include "mocap/skeleton_tracking.h"
 
 namespace deixis::app {
@@ -227,6 +229,21 @@ void write_bvh_row(std::ostream& out, std::size_t frame, const TrackingFrame& f)
   out << '\n';
 }
 
+// --rate: the tracking at `rate` Hz from frame `first`'s time to frame `last` − 1's, through the
+// player's interpolation (mocap/player.h); row k is sample k, its time the recording's.
+void write_resampled(std::ostream& out, const mocap::Bvh& bvh, double metres_per_unit,
+                     std::size_t first, std::size_t last, double rate) {
+  mocap::BvhPlayer player(bvh, metres_per_unit, mocap::Playback::kOnce);
+  const double start = static_cast<double>(first) * bvh.frame_time;
+  const double span = static_cast<double>(last - 1 - first) * bvh.frame_time;
+  const auto count = static_cast<std::size_t>(std::floor(span * rate + 1e-9)) + 1;
+  TrackingFrame f;
+  for (std::size_t k = 0; k < count; ++k) {
+    player.at(start + static_cast<double>(k) / rate, f);
+    write_bvh_row(out, k, f);
+  }
+}
+
 }  // namespace
 
 int run_capture_bvh(const CaptureBvhOptions& o) {
@@ -252,6 +269,10 @@ int run_capture_bvh(const CaptureBvhOptions& o) {
                  std::string(mocap::unit_name(unit)).c_str(), tracking.rest_stature(),
                  static_cast<double>(c.height), static_cast<double>(c.arm_length),
                  tracking.upright_frame());
+    if (o.rate > 0.0) {
+      std::fprintf(stderr, "deixis capture bvh: resampled at %.6g Hz (the player's interpolation)\n",
+                   o.rate);
+    }
     std::ofstream file;
     if (!o.csv.empty()) {
       file.open(o.csv);
@@ -261,13 +282,17 @@ int run_capture_bvh(const CaptureBvhOptions& o) {
     }
     std::ostream& out = o.csv.empty() ? std::cout : file;
     write_bvh_header(out);
-    TrackingFrame f;
-    const std::size_t step = std::max<std::size_t>(1, (last - first) / 10);
-    for (std::size_t i = first; i < last; ++i) {
-      tracking.track(i, f);
-      write_bvh_row(out, i, f);
-      if ((last - first) > 10000 && (i - first) % step == 0) {
-        std::fprintf(stderr, "  frame %zu of %zu\n", i - first, last - first);
+    if (o.rate > 0.0) {
+      write_resampled(out, bvh, mocap::metres_per_unit(unit), first, last, o.rate);
+    } else {
+      TrackingFrame f;
+      const std::size_t step = std::max<std::size_t>(1, (last - first) / 10);
+      for (std::size_t i = first; i < last; ++i) {
+        tracking.track(i, f);
+        write_bvh_row(out, i, f);
+        if ((last - first) > 10000 && (i - first) % step == 0) {
+          std::fprintf(stderr, "  frame %zu of %zu\n", i - first, last - first);
+        }
       }
     }
     if (!out) {

@@ -363,6 +363,12 @@ void add_capture(CLI::App& program, const Invocation&, std::vector<Runner>& runn
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   bvh_cmd->add_option("--to", bvh->to, "One past the last frame (default: the end)");
+  bvh_cmd
+      ->add_option("--rate", bvh->rate,
+                   "Resample the tracking at this rate in Hz (e.g. 30, the networks' and the "
+                   "wire's), interpolated as a site plays a recording; row k is sample k from "
+                   "--from's time (default: the file's own frames)")
+      ->check(CLI::Range(1.0, 1000.0));
   runners.push_back({bvh_cmd, [bvh] { return run_capture_bvh(*bvh); }});
 
   auto judge = std::make_shared<CaptureJudgeOptions>();

@@ -72,6 +72,7 @@ struct CaptureBvhOptions {
   std::string unit = "auto";  // m, cm, mm, inch, cmu, auto
   long from = 0;              // first frame
   long to = -1;               // one past the last frame; -1: the end
+  double rate = 0.0;          // Hz to resample at (the player's interpolation); 0: the file's
 };
 int run_capture_bvh(const CaptureBvhOptions& options);
 
