@@ -88,12 +88,12 @@ struct NetworkSetup {
 // once the remote people are there (meeting one builds their avatar once).
 class XrSink final : public xr::FrameSink {
  public:
-  XrSink(const site::SiteConfig& site, render::Renderer& renderer, render::SkinnedMeshId mesh,
+  // `mesh`: what remote people wear unless they wear their own.
+  XrSink(const site::SiteConfig& site, render::Renderer& renderer, const avatar::SkinnedMesh& mesh,
          const Vec3& remote_head_at_rest)
       : site_(site),
         renderer_(renderer),
-        mesh_(mesh),
-        meshes_(renderer),
+        meshes_(renderer, mesh),
         remote_head_(remote_head_at_rest) {
     avatars_.reserve(site.spots.size());  // one per spot: every remote person at once
   }
@@ -125,7 +125,10 @@ class XrSink final : public xr::FrameSink {
     view.camera = camera;
     avatars_.clear();
     for (const presence::RemoteAvatar* avatar : shown_avatars()) {
-      const std::optional<render::SkinnedMeshId> mesh = mesh_worn(*avatar);
+      // Their choice, the override, else the site's; not drawn when more different avatars came
+      // than the cache holds.
+      const std::optional<render::SkinnedMeshId> mesh =
+          meshes_.get(peer_ ? peer_->people().worn_mesh(*avatar) : nullptr);
       if (mesh && avatars_.size() < avatars_.capacity()) {
         avatars_.push_back({*mesh, avatar->T_world_model(), avatar->model_pose()});
       }
@@ -242,13 +245,6 @@ class XrSink final : public xr::FrameSink {
     std::fflush(stdout);
   }
 
-  // What a remote person wears here: their chosen avatar (site/remote_people.h), else the
-  // site's; nullopt when more different avatars came than the cache holds (not drawn).
-  std::optional<render::SkinnedMeshId> mesh_worn(const presence::RemoteAvatar& avatar) {
-    const site::PersonAvatar* worn = peer_ ? peer_->people().wearing(avatar) : nullptr;
-    return worn == nullptr ? std::optional(mesh_) : meshes_.get(worn->avatar.mesh);
-  }
-
   std::span<const presence::RemoteAvatar* const> shown_avatars() {
     if (peer_) {
       return peer_->visible();
@@ -267,8 +263,7 @@ class XrSink final : public xr::FrameSink {
 
   const site::SiteConfig& site_;
   render::Renderer& renderer_;
-  render::SkinnedMeshId mesh_;
-  render::SkinnedMeshCache meshes_;  // the avatars people chose, uploaded once
+  render::SkinnedMeshCache meshes_;  // the site's avatar and those people chose, uploaded once
   Vec3 remote_head_;
   std::optional<LocalRemote> local_;
   std::optional<NetworkSetup> network_;
@@ -336,8 +331,8 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   render::HeadlessContext context(16, 16);
   render::Renderer renderer;
   renderer.set_targets(a.site.target_map);
-  const render::SkinnedMeshId mesh = renderer.add_skinned_mesh(
-      local_avatar && override_avatar ? override_avatar->avatar.mesh : a.avatar.mesh);
+  const avatar::SkinnedMesh& mesh =
+      local_avatar && override_avatar ? override_avatar->avatar.mesh : a.avatar.mesh;
   xr::Instance instance(xr::InstanceOptions{o.headless, true, true, "deixis xr"});
   std::printf("OpenXR: %s; hand tracking %s, eye gaze %s\n", instance.description().c_str(),
               instance.features().hand_tracking ? "yes" : "no (controller poses)",

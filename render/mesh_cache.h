@@ -15,14 +15,17 @@ class SkinnedMeshCache {
  public:
   static constexpr std::size_t kMaxMeshes = 64;
 
-  // Nothing is uploaded until asked for; the list is reserved here, so lookups never allocate
-  // (uploading a new mesh allocates on the GPU side).
-  explicit SkinnedMeshCache(Renderer& renderer);
+  // `own`: the view's own avatar (the site's, which people wear unless they wear their own),
+  // uploaded here. Others are uploaded when first asked for; the list is reserved here, so
+  // lookups never allocate (uploading a new mesh allocates on the GPU side).
+  SkinnedMeshCache(Renderer& renderer, const SkinnedMesh& own);
 
-  // The mesh's id in the renderer, uploading it the first time; nullopt once kMaxMeshes
-  // different meshes are uploaded (the caller draws something else or nothing).
-  std::optional<SkinnedMeshId> get(const SkinnedMesh& mesh);
-  std::size_t size() const { return meshes_.size(); }
+  // The mesh's id in the renderer, uploading it the first time; null: the own mesh (what
+  // site::RemotePeople::worn_mesh gives for someone in the site's default). nullopt once
+  // kMaxMeshes different meshes are uploaded (the caller draws something else or nothing).
+  std::optional<SkinnedMeshId> get(const SkinnedMesh* mesh);
+  SkinnedMeshId own() const { return meshes_.front().second; }
+  std::size_t size() const { return meshes_.size(); }  // the own mesh included
 
  private:
   Renderer* renderer_;

@@ -181,8 +181,7 @@ class Sim {
         remote_view_(a.b, remote_map_),
         user_copy_(a.calibration, *a.user_solver,
                    presence::avatar_origin(*a.user_solver, a.a.user.T_world_floor())),
-        user_mesh_(local_.renderer().add_skinned_mesh(a.user_avatar.mesh)),
-        local_meshes_(local_.renderer()),
+        local_meshes_(local_.renderer(), a.user_avatar.mesh),
         controls_(local_, remote_view_, a.a.target_map, remote_map_, a.user.get()),
         imgui_(window.glfw_window()),
         window_input_(window.glfw_window()),
@@ -423,7 +422,7 @@ class Sim {
     // Room A: the user's copy, and the other sites' people when networked.
     avatars_.clear();  // capacity: the user and every spot, reserved at construction
     lines_.clear();
-    avatars_.push_back({user_mesh_, user_copy_.T_world_model(), user_copy_.model_pose()});
+    avatars_.push_back({local_meshes_.own(), user_copy_.T_world_model(), user_copy_.model_pose()});
     const TargetObject* user_target = a_.a.target_map.find(user_frame_.hand_target);
     if (user_target != nullptr && user_deictic_ > kRayShownAbove) {
       const EndEffectorPoses& e = user_copy_.targets().deictic;
@@ -431,7 +430,10 @@ class Sim {
     }
     if (network_) {
       for (const presence::RemoteAvatar* other : network_->visible_avatars()) {
-        const std::optional<render::SkinnedMeshId> mesh = mesh_worn(*other);
+        // What they wear here (their choice, the override, else A's avatar); not drawn when
+        // more different avatars came than the cache holds.
+        const std::optional<render::SkinnedMeshId> mesh =
+            local_meshes_.get(network_->people_here().worn_mesh(*other));
         if (mesh && avatars_.size() < avatars_.capacity()) {
           add_avatar(*other, *mesh, a_.a.target_map);
         }
@@ -446,13 +448,6 @@ class Sim {
       add_avatar(remote_->remote, remote_->mesh, remote_map_);
     }
     remote_view_.draw(avatars_, lines_, window_height);
-  }
-
-  // What a remote person wears in room A: their chosen avatar (site/remote_people.h), else the
-  // site's; nullopt when more different avatars came than the cache holds (not drawn).
-  std::optional<render::SkinnedMeshId> mesh_worn(const presence::RemoteAvatar& avatar) {
-    const site::PersonAvatar* worn = network_->people_here().wearing(avatar);
-    return worn == nullptr ? std::optional(user_mesh_) : local_meshes_.get(worn->avatar.mesh);
   }
 
   // A translated avatar, with its eye–fingertip ray toward its room's copy while it points.
@@ -590,8 +585,9 @@ class Sim {
   RoomView local_;
   RoomView remote_view_;
   presence::CopiedAvatar user_copy_;
-  render::SkinnedMeshId user_mesh_;
-  render::SkinnedMeshCache local_meshes_;  // the avatars people chose, uploaded once
+  // A's avatar (the user's copy, and whoever wears the default) and the avatars people chose,
+  // each uploaded once.
+  render::SkinnedMeshCache local_meshes_;
   SimControls controls_;
   ImGuiLayer imgui_;
   WindowInput window_input_;

@@ -203,6 +203,11 @@ const PersonAvatar* RemotePeople::wearing(const presence::RemoteAvatar& avatar) 
   return nullptr;
 }
 
+const avatar::SkinnedMesh* RemotePeople::worn_mesh(const presence::RemoteAvatar& avatar) const {
+  const PersonAvatar* worn = wearing(avatar);
+  return worn != nullptr ? &worn->avatar.mesh : nullptr;
+}
+
 PersonAvatarRecord RemotePeople::avatar_record(const Slot& slot) const {
   PersonAvatarRecord r;
   r.joints = solver_of(slot).joint_count();

@@ -219,9 +219,7 @@ class ScriptedSite {
     remote_pictures_.clear();  // capacity: one per spot, reserved at construction
     for (const presence::RemoteAvatar* avatar : visible_avatars()) {
       AvatarPicture remote{avatar->T_world_model(), avatar->model_pose()};
-      if (const PersonAvatar* wearing = peer_.people().wearing(*avatar); wearing != nullptr) {
-        remote.mesh = &wearing->avatar.mesh;
-      }
+      remote.mesh = peer_.people().worn_mesh(*avatar);
       const TargetObject* target = a_.site.target_map.find(avatar->frame().hand_target);
       if (target != nullptr && avatar->frame().progression[1] > kRayShownAbove) {
         remote =

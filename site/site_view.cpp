@@ -24,8 +24,7 @@ SiteView::SiteView(const SiteConfig& site, const avatar::Avatar& avatar, int vie
   renderer_->set_targets(site.target_map);
   // The user's copy and remote people wear the site's avatar (the site file names one) unless a
   // person wears their own; one uploaded mesh serves them all.
-  meshes_.emplace(*renderer_);
-  mesh_ = *meshes_->get(avatar.mesh);
+  meshes_.emplace(*renderer_, avatar.mesh);
   avatars_.reserve(std::max<std::size_t>(site.spots.size(), 1));
   lines_.reserve(avatars_.capacity());
   frame_.width = 2 * view_width;
@@ -66,8 +65,7 @@ void SiteView::draw_view(std::span<const AvatarPicture> pictures, int column) {
     if (avatars_.size() == avatars_.capacity()) {
       break;  // more than the site has spots for: never, as people take spots
     }
-    const std::optional<render::SkinnedMeshId> mesh =
-        picture.mesh != nullptr ? meshes_->get(*picture.mesh) : mesh_;
+    const std::optional<render::SkinnedMeshId> mesh = meshes_->get(picture.mesh);
     if (!mesh) {
       continue;
     }

@@ -73,7 +73,6 @@ class SiteView {
   render::Camera camera_;
   render::HeadlessContext context_;
   std::optional<render::Renderer> renderer_;
-  render::SkinnedMeshId mesh_;
   std::optional<render::SkinnedMeshCache> meshes_;
   std::vector<render::AvatarDraw> avatars_;  // sized at construction: one per spot
   std::vector<render::DebugLine> lines_;

@@ -318,20 +318,24 @@ TEST(HeadlessContextTest, ContextsLiveSideBySide) {
   EXPECT_TRUE(render_sky(second));
 }
 
-// People wearing the same avatar share one upload; each other avatar is uploaded once, found
+// People wearing the same avatar share one upload; the view's own avatar is there from the start
+// and is what a null mesh (the site's default) gives; each other avatar is uploaded once, found
 // again by address, and drawn; past kMaxMeshes different meshes the cache says so instead of
 // uploading without bound.
 TEST_F(HeadlessRenderTest, TheMeshCacheUploadsEachAvatarOnce) {
-  SkinnedMeshCache cache(*renderer_);
   std::vector<SkinnedMesh> meshes(SkinnedMeshCache::kMaxMeshes + 1, arm_mesh(skeleton_));
-  const std::optional<SkinnedMeshId> first = cache.get(meshes[0]);
-  ASSERT_TRUE(first.has_value());
-  EXPECT_EQ(cache.get(meshes[0])->index, first->index);
+  SkinnedMeshCache cache(*renderer_, meshes[0]);
   EXPECT_EQ(cache.size(), 1u);
-  const std::optional<SkinnedMeshId> second = cache.get(meshes[1]);
+  const std::optional<SkinnedMeshId> first = cache.get(&meshes[0]);
+  ASSERT_TRUE(first.has_value());
+  EXPECT_EQ(first->index, cache.own().index);
+  EXPECT_EQ(cache.get(nullptr)->index, first->index);
+  EXPECT_EQ(cache.size(), 1u);
+  const std::optional<SkinnedMeshId> second = cache.get(&meshes[1]);
   ASSERT_TRUE(second.has_value());
   EXPECT_NE(second->index, first->index);
   EXPECT_NE(second->index, arm_.index);
+  EXPECT_EQ(cache.get(nullptr)->index, first->index);  // the own mesh stays the default
   // The second upload draws like the fixture's own.
   const std::vector<Pose> rest = rest_model_poses(skeleton_);
   const Image expected = render_arm(rest);
@@ -342,11 +346,12 @@ TEST_F(HeadlessRenderTest, TheMeshCacheUploadsEachAvatarOnce) {
   context_->present();
   EXPECT_EQ(read_pixels(context_->target()).rgb, expected.rgb);
   for (std::size_t i = 2; i < SkinnedMeshCache::kMaxMeshes; ++i) {
-    ASSERT_TRUE(cache.get(meshes[i]).has_value()) << i;
+    ASSERT_TRUE(cache.get(&meshes[i]).has_value()) << i;
   }
   EXPECT_EQ(cache.size(), SkinnedMeshCache::kMaxMeshes);
-  EXPECT_FALSE(cache.get(meshes.back()).has_value());
-  EXPECT_EQ(cache.get(meshes[5]).has_value(), true);  // the known ones still answer
+  EXPECT_FALSE(cache.get(&meshes.back()).has_value());
+  EXPECT_TRUE(cache.get(&meshes[5]).has_value());  // the known ones still answer
+  EXPECT_TRUE(cache.get(nullptr).has_value());     // and the own one
 }
 
 }  // namespace
