@@ -307,5 +307,25 @@ TEST(ChosenAvatarProcess, AnAvatarFileThatDoesNotLoadExits2NamingIt) {
   }
 }
 
+// The live front ends take the same two flags and refuse the same file before anything starts
+// (no window, no OpenXR runtime, nobody to join).
+TEST(ChosenAvatarProcess, SimAndXrRefuseAnAvatarFileThatDoesNotLoadNamingIt) {
+  deixis::testing::ScratchDir dir;
+  const fs::path bad = dir.path() / "broken-avatar.glb";
+  std::ofstream(bad) << "glTF, or so it says";
+  for (const char* flag : {"--avatar", "--remote-avatar"}) {
+    SCOPED_TRACE(flag);
+    Deixis sim({"sim", "--join", "127.0.0.1:9", "--site-a", site("a.json").string(),
+                "--weights-dir", weights_dir(), flag, bad.string()});
+    EXPECT_EQ(sim.wait(), 2) << sim.err();
+    EXPECT_NE(sim.err().find("broken-avatar.glb"), std::string::npos) << sim.err();
+    Deixis xr({"xr", "--headless", "--join", "127.0.0.1:9", "--site", site("a.json").string(),
+               "--weights-dir", weights_dir(), flag, bad.string()});
+    EXPECT_EQ(xr.wait(), 2) << xr.err();
+    EXPECT_NE(xr.err().find("broken-avatar.glb"), std::string::npos) << xr.err();
+    EXPECT_EQ(xr.err().find("xrCreateInstance"), std::string::npos) << xr.err();
+  }
+}
+
 }  // namespace
 }  // namespace deixis::app

@@ -88,8 +88,10 @@ TEST_F(XrRoom, TheHeadsetUserAndAJoinedSiteEachListTheOtherAsAPerson) {
             (dir_.path() / "B").string(), "--weights-dir", weights_dir(), "--wait", "20",
             "--avatar", deixis::testing::bcn_glb().string()});
   ASSERT_TRUE(relay.wait_for_text("(1 now", 60.0)) << relay.out() << relay.err();
+  // The headset user chose the BCN rig too: B shows them wearing it.
   Deixis headset({"xr", "--headless", "--site", site_a_.string(), "--connect", relay_at, "--room",
-                  "meeting", "--weights-dir", weights_dir(), "--wait", "20"});
+                  "meeting", "--weights-dir", weights_dir(), "--wait", "20", "--avatar",
+                  deixis::testing::bcn_glb().string()});
   ASSERT_EQ(headset.wait(), 0) << headset.out() << headset.err();
   ASSERT_EQ(b.wait(), 0) << b.err();
   relay.send_signal(SIGTERM);
@@ -119,6 +121,8 @@ TEST_F(XrRoom, TheHeadsetUserAndAJoinedSiteEachListTheOtherAsAPerson) {
   std::printf("site B saw the headset user: %s\n", a->dump().c_str());
   EXPECT_GT((*a)["frames_played"].get<int>(), 100) << a->dump();
   EXPECT_GT((*a)["visible_ticks"].get<int>(), 100) << a->dump();
+  EXPECT_EQ((*a)["avatar"]["source"], "chosen") << a->dump();
+  EXPECT_EQ((*a)["avatar"]["joints"].get<int>(), 54) << a->dump();
 
   // People are targets: when the headset user looked at B's avatar in room A, the selection
   // designated B (person_target, not an object), and A's avatar in room B looked at B's user.

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/deixis_child.h"
+#include "avatar/bcn_rig.h"  // tests/avatar
 #include "core/target_map.h"
 #include "sim/sim_window_fixture.h"
 #include "test_support.h"
@@ -125,7 +126,7 @@ TEST_F(SimRoomTest, TheSimulatorMeetsTwoSitesInARoomAndEachListsTheOthers) {
   // early in its 12 s (its script looks at the other person at 0 s and 10 s); they stay 22 s,
   // beyond its end.
   ASSERT_TRUE(relay.wait_for_text("(2 now", 60.0)) << relay.out() << relay.err();
-  Deixis a(sim(port));
+  Deixis a(sim(port) + std::vector<std::string>{"--avatar", deixis::testing::bcn_glb().string()});
   ASSERT_EQ(a.wait(), 0) << a.out() << a.err();
   EXPECT_EQ(b.wait(), 0) << b.err();
   EXPECT_EQ(c.wait(), 0) << c.err();
@@ -163,6 +164,9 @@ TEST_F(SimRoomTest, TheSimulatorMeetsTwoSitesInARoomAndEachListsTheOthers) {
     EXPECT_GT(met.at("A")["frames_played"].get<int>(), 100) << name << ": " << met.at("A");
     EXPECT_GT(met.at("A")["visible_ticks"].get<int>(), 100) << name << ": " << met.at("A");
     std::printf("site %s saw the simulator's user: %s\n", name, met.at("A").dump().c_str());
+    // The simulator's user chose the BCN rig (--avatar): they wear it there.
+    EXPECT_EQ(met.at("A")["avatar"]["source"], "chosen") << name << ": " << met.at("A");
+    EXPECT_EQ(met.at("A")["avatar"]["joints"].get<int>(), 54) << name << ": " << met.at("A");
     // People are targets: the script's "look at the other person" became whoever stands on A's
     // first spot (B, the first to arrive); B saw A look at B's own user, C saw A look at B's
     // avatar in room C, within a few degrees at least once (a look the run's end cuts short is
