@@ -75,6 +75,18 @@ deixis_translator* translator_for(const Loaded& loaded, const deixis_tracking_fr
   return translator;
 }
 
+// The examples' recording (examples/data/pointing.csv) with a translator of its person,
+// calibrated on its first frame; everything destroyed at scope exit.
+struct Playing : Loaded {
+  std::vector<deixis_tracking_frame> frames =
+      read_tracking_csv(examples_dir() / "data/pointing.csv");
+  deixis_translator* translator = translator_for(*this, frames.front());
+  Playing() = default;
+  Playing(const Playing&) = delete;
+  Playing& operator=(const Playing&) = delete;
+  ~Playing() { deixis_translator_destroy(translator); }
+};
+
 TEST(CApi, VersionAndAbiMatchTheHeader) {
   EXPECT_EQ(deixis_abi_version(), static_cast<uint32_t>(DEIXIS_ABI_VERSION));
   const std::string expected = std::to_string(DEIXIS_VERSION_MAJOR) + "." +
@@ -249,21 +261,15 @@ TEST(CApi, NetworksEqualTheRuntimesOnEveryShippedArchitecture) {
 // The translator through the C API and presence::RemoteAvatar in-tree, on the examples'
 // recording: the same fingertip, tick for tick.
 TEST(CApi, TheTranslatorEqualsTheInTreeRemoteAvatar) {
-  const fs::path csv = examples_dir() / "data/pointing.csv";
-  const fs::path map = examples_dir() / "data/room.json";
-  const std::vector<PrintedTick> expected = parse_ticks(in_tree_fingertips(csv, map));
-  const std::vector<deixis_tracking_frame> frames = read_tracking_csv(csv);
+  const std::vector<PrintedTick> expected = parse_ticks(
+      in_tree_fingertips(examples_dir() / "data/pointing.csv", examples_dir() / "data/room.json"));
+  const Playing playing;
+  const std::vector<deixis_tracking_frame>& frames = playing.frames;
+  deixis_translator* translator = playing.translator;
+  ASSERT_NE(translator, nullptr);
   ASSERT_EQ(expected.size(), frames.size());
   ASSERT_GT(frames.size(), 100u);
-
-  const Loaded loaded;
-  const deixis_translator_config config = config_for(frames.front());
-  deixis_translator* translator = nullptr;
-  deixis_error e{};
-  ASSERT_EQ(deixis_translator_create(DEIXIS_ABI_VERSION, loaded.mpnet, loaded.ugnet, loaded.avatar,
-                                     &config, &translator, &e),
-            DEIXIS_OK)
-      << e.message;
+  const Loaded& loaded = playing;
   float furthest = 0.0f;  // how far the fingertip travels: the test must see a gesture
   for (std::size_t i = 0; i < frames.size(); ++i) {
     deixis_avatar_frame out{};
@@ -278,14 +284,13 @@ TEST(CApi, TheTranslatorEqualsTheInTreeRemoteAvatar) {
   deixis_translator_stats stats{};
   ASSERT_EQ(deixis_translator_stats_get(translator, &stats), DEIXIS_OK);
   EXPECT_EQ(stats.ticks, frames.size());
-  deixis_translator_destroy(translator);
 }
 
 TEST(CApi, JointPosesAreTheSkeletonInEachSpace) {
-  const Loaded loaded;
-  const std::vector<deixis_tracking_frame> frames =
-      read_tracking_csv(examples_dir() / "data/pointing.csv");
-  deixis_translator* translator = translator_for(loaded, frames.front());
+  const Playing playing;
+  const Loaded& loaded = playing;
+  const std::vector<deixis_tracking_frame>& frames = playing.frames;
+  deixis_translator* translator = playing.translator;
   ASSERT_NE(translator, nullptr);
   deixis_avatar_frame out{};
   for (std::size_t i = 0; i < 60; ++i) {
@@ -331,14 +336,13 @@ TEST(CApi, JointPosesAreTheSkeletonInEachSpace) {
     nearest = std::min(nearest, (Vec3(p.position.x, p.position.y, p.position.z) - tip).norm());
   }
   EXPECT_LT(nearest, 0.05f);
-  deixis_translator_destroy(translator);
 }
 
 TEST(CApi, NonFiniteOrMissingTrackingIsHeldOverAndCounted) {
-  const Loaded loaded;
-  const std::vector<deixis_tracking_frame> frames =
-      read_tracking_csv(examples_dir() / "data/pointing.csv");
-  deixis_translator* translator = translator_for(loaded, frames.front());
+  const Playing playing;
+  const Loaded& loaded = playing;
+  const std::vector<deixis_tracking_frame>& frames = playing.frames;
+  deixis_translator* translator = playing.translator;
   ASSERT_NE(translator, nullptr);
   deixis_avatar_frame out{};
   // Nothing before the first valid frame: hidden.
@@ -363,7 +367,6 @@ TEST(CApi, NonFiniteOrMissingTrackingIsHeldOverAndCounted) {
   ASSERT_EQ(deixis_translator_stats_get(translator, &stats), DEIXIS_OK);
   EXPECT_EQ(stats.rejected_frames, 2u);
   EXPECT_GE(stats.held, 2u);
-  deixis_translator_destroy(translator);
 }
 
 TEST(CApi, AConfigOutOfRangeIsRefusedNamingTheField) {
