@@ -54,6 +54,7 @@ XrResult XRAPI_CALL EnumerateReferenceSpaces(XrSession, uint32_t, uint32_t*, XrR
 XrResult XRAPI_CALL CreateReferenceSpace(XrSession, const XrReferenceSpaceCreateInfo*, XrSpace*);
 XrResult XRAPI_CALL CreateActionSpace(XrSession, const XrActionSpaceCreateInfo*, XrSpace*);
 XrResult XRAPI_CALL DestroySpace(XrSpace);
+XrResult XRAPI_CALL GetReferenceSpaceBoundsRect(XrSession, XrReferenceSpaceType, XrExtent2Df*);
 XrResult XRAPI_CALL LocateSpace(XrSpace, XrSpace, XrTime, XrSpaceLocation*);
 XrResult XRAPI_CALL LocateViews(XrSession, const XrViewLocateInfo*, XrViewState*, uint32_t,
                                 uint32_t*, XrView*);
@@ -77,8 +78,29 @@ XrResult XRAPI_CALL DestroyAction(XrAction);
 XrResult XRAPI_CALL SuggestInteractionProfileBindings(XrInstance,
                                                       const XrInteractionProfileSuggestedBinding*);
 XrResult XRAPI_CALL AttachSessionActionSets(XrSession, const XrSessionActionSetsAttachInfo*);
+
+// action_state.cpp
 XrResult XRAPI_CALL SyncActions(XrSession, const XrActionsSyncInfo*);
+XrResult XRAPI_CALL GetActionStateBoolean(XrSession, const XrActionStateGetInfo*,
+                                          XrActionStateBoolean*);
+XrResult XRAPI_CALL GetActionStateFloat(XrSession, const XrActionStateGetInfo*,
+                                        XrActionStateFloat*);
+XrResult XRAPI_CALL GetActionStateVector2f(XrSession, const XrActionStateGetInfo*,
+                                           XrActionStateVector2f*);
 XrResult XRAPI_CALL GetActionStatePose(XrSession, const XrActionStateGetInfo*, XrActionStatePose*);
+
+// interaction_profile.cpp
+XrResult XRAPI_CALL GetCurrentInteractionProfile(XrSession, XrPath, XrInteractionProfileState*);
+XrResult XRAPI_CALL EnumerateBoundSourcesForAction(XrSession,
+                                                   const XrBoundSourcesForActionEnumerateInfo*,
+                                                   uint32_t, uint32_t*, XrPath*);
+XrResult XRAPI_CALL GetInputSourceLocalizedName(XrSession, const XrInputSourceLocalizedNameGetInfo*,
+                                                uint32_t, uint32_t*, char*);
+
+// haptics.cpp
+XrResult XRAPI_CALL ApplyHapticFeedback(XrSession, const XrHapticActionInfo*,
+                                        const XrHapticBaseHeader*);
+XrResult XRAPI_CALL StopHapticFeedback(XrSession, const XrHapticActionInfo*);
 
 // hand.cpp
 XrResult XRAPI_CALL CreateHandTrackerEXT(XrSession, const XrHandTrackerCreateInfoEXT*,

@@ -5,6 +5,8 @@
 #include <cstring>
 #include <sstream>
 
+#include <openxr/openxr_reflection.h>
+
 #include "xr_test_runtime/api.h"
 
 namespace deixis::xrt {
@@ -84,6 +86,7 @@ void reset(Runtime& rt) {
   rt.events.clear();
   rt.script = default_script();
   rt.record = {};
+  rt.record_path.clear();
 }
 
 // The checks every system-level call starts with: a live instance, our one system.
@@ -173,6 +176,9 @@ XrResult XRAPI_CALL CreateInstance(const XrInstanceCreateInfo* info, XrInstance*
   }
   reset(rt);
   rt.script = std::move(script);
+  if (const char* path = std::getenv("DEIXIS_XR_RECORD"); path != nullptr) {
+    rt.record_path = path;
+  }
   rt.enabled_extensions = std::move(enabled);
   rt.instance = rt.new_handle();
   rt.instance_live = true;
@@ -186,10 +192,9 @@ XrResult XRAPI_CALL DestroyInstance(XrInstance instance) {
   if (!valid_instance(instance)) {
     return XR_ERROR_HANDLE_INVALID;
   }
-  if (const char* path = std::getenv("DEIXIS_XR_RECORD"); path != nullptr && *path != '\0') {
-    if (!rt.record.write(path)) {
-      std::fprintf(stderr, "deixis xr test runtime: cannot write DEIXIS_XR_RECORD=%s\n", path);
-    }
+  if (!rt.record_path.empty() && !rt.record.write(rt.record_path)) {
+    std::fprintf(stderr, "deixis xr test runtime: cannot write DEIXIS_XR_RECORD=%s\n",
+                 rt.record_path.c_str());
   }
   reset(rt);
   return XR_SUCCESS;
@@ -242,8 +247,22 @@ XrResult XRAPI_CALL StructureTypeToString(XrInstance instance, XrStructureType v
   if (!valid_instance(instance)) {
     return XR_ERROR_HANDLE_INVALID;
   }
-  std::snprintf(buffer, XR_MAX_STRUCTURE_NAME_SIZE, "XR_STRUCTURE_TYPE_%d",
-                static_cast<int>(value));
+  const char* name = nullptr;
+  switch (value) {
+#define DEIXIS_XRT_STRUCTURE_CASE(n, v) \
+  case n:                               \
+    name = #n;                          \
+    break;
+    XR_LIST_ENUM_XrStructureType(DEIXIS_XRT_STRUCTURE_CASE)
+#undef DEIXIS_XRT_STRUCTURE_CASE
+        default : break;
+  }
+  if (name != nullptr) {
+    std::snprintf(buffer, XR_MAX_STRUCTURE_NAME_SIZE, "%s", name);
+  } else {
+    std::snprintf(buffer, XR_MAX_STRUCTURE_NAME_SIZE, "XR_UNKNOWN_STRUCTURE_TYPE_%d",
+                  static_cast<int>(value));
+  }
   return XR_SUCCESS;
 }
 
@@ -334,12 +353,14 @@ XrResult XRAPI_CALL EnumerateViewConfigurationViews(XrInstance instance, XrSyste
 XrResult XRAPI_CALL EnumerateEnvironmentBlendModes(XrInstance instance, XrSystemId system,
                                                    XrViewConfigurationType type, uint32_t capacity,
                                                    uint32_t* count, XrEnvironmentBlendMode* out) {
+  const Runtime& rt = state();
   std::lock_guard lock(state().mutex);
   if (const XrResult r = check_view_configuration(instance, system, type); r != XR_SUCCESS) {
     return r;
   }
-  const XrEnvironmentBlendMode values[] = {XR_ENVIRONMENT_BLEND_MODE_OPAQUE};
-  return two_call(capacity, count, out, values, 1);
+  // The script's headset offers these, in its order (default: opaque alone).
+  const std::vector<XrEnvironmentBlendMode>& modes = rt.script.blend_modes;
+  return two_call(capacity, count, out, modes.data(), static_cast<uint32_t>(modes.size()));
 }
 
 XrResult XRAPI_CALL StringToPath(XrInstance instance, const char* string, XrPath* path) {
@@ -352,14 +373,7 @@ XrResult XRAPI_CALL StringToPath(XrInstance instance, const char* string, XrPath
       std::strlen(string) >= XR_MAX_PATH_LENGTH) {
     return XR_ERROR_PATH_FORMAT_INVALID;
   }
-  for (std::size_t i = 0; i < rt.paths.size(); ++i) {
-    if (rt.paths[i] == string) {
-      *path = i + 1;
-      return XR_SUCCESS;
-    }
-  }
-  rt.paths.emplace_back(string);
-  *path = rt.paths.size();
+  *path = rt.intern(string);
   return XR_SUCCESS;
 }
 

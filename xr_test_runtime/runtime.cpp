@@ -21,6 +21,32 @@ XrTime Runtime::period() const {
   return static_cast<XrTime>(1e9 / script.display_hz + 0.5);
 }
 
+XrTime Runtime::input_time() const {
+  return epoch + static_cast<XrTime>(std::max<std::uint64_t>(session_state.waited, 1)) * period();
+}
+
+XrPath Runtime::find_path(std::string_view s) const {
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    if (paths[i] == s) {
+      return i + 1;
+    }
+  }
+  return XR_NULL_PATH;
+}
+
+XrPath Runtime::intern(std::string_view s) {
+  if (const XrPath found = find_path(s); found != XR_NULL_PATH) {
+    return found;
+  }
+  paths.emplace_back(s);
+  return paths.size();
+}
+
+const std::string& Runtime::path_string(XrPath path) const {
+  static const std::string kNone;
+  return path == XR_NULL_PATH || path > paths.size() ? kNone : paths[path - 1];
+}
+
 ScriptSample Runtime::sample(XrTime time) const {
   return script.at(static_cast<double>(time - epoch - period()) * 1e-9);
 }

@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "xr_test_runtime/graphics_binding.h"
+#include "xr_test_runtime/profiles.h"
 #include "xr_test_runtime/record.h"
 #include "xr_test_runtime/script.h"
 
@@ -34,6 +36,8 @@ struct SpaceObject {
 
 struct SwapchainObject {
   std::vector<std::uint32_t> textures;  // GL names, or none for a headless session
+  std::int64_t format = 0;
+  std::uint32_t last_released = 0;  // the image a layer shows (the last one released)
   std::uint32_t image_count = 3;
   std::uint32_t next = 0;              // the next image to acquire
   std::deque<std::uint32_t> acquired;  // in acquisition order
@@ -41,12 +45,36 @@ struct SwapchainObject {
   std::uint32_t width = 0, height = 0;
 };
 
+// One input source an action reads after attaching: a component of an identifier of the
+// interaction profile current for its top-level user path.
+struct ActionBinding {
+  XrPath user = XR_NULL_PATH;  // the top-level user path as the application's XrPath
+  TopLevel top = TopLevel::kLeft;
+  const ProfileIdentifier* identifier = nullptr;
+  std::uint16_t component = 0;    // Component bits (kX | kY for a vector2)
+  Source source = Source::kHead;  // for poses
+  std::string path;               // the full input source path, as suggested
+};
+
+// An action's state for one subaction path (XR_NULL_PATH: all of them), as of the last
+// xrSyncActions (spec §11.5: values change only when synced).
+struct ActionState {
+  XrPath subaction = XR_NULL_PATH;
+  bool active = false;
+  bool changed = false;
+  XrTime last_change = 0;
+  float x = 0.0f;  // boolean (0/1), float, vector2 x
+  float y = 0.0f;  // vector2 y
+};
+
 struct ActionObject {
   std::uint64_t set = 0;
   XrActionType type = XR_ACTION_TYPE_POSE_INPUT;
   std::string name;
+  std::string localized_name;
   std::vector<XrPath> subactions;
-  std::vector<std::pair<XrPath, Source>> bindings;  // (user path, source) after attach
+  std::vector<ActionBinding> bindings;  // after attach
+  std::vector<ActionState> states;      // XR_NULL_PATH first, then each subaction path
 };
 
 struct ActionSetObject {
@@ -57,10 +85,16 @@ struct ActionSetObject {
 struct SessionObject {
   XrSessionState state = XR_SESSION_STATE_UNKNOWN;
   bool headless = false;
+  SessionGraphics graphics;  // the application's GL context (none when headless)
   bool running = false;
   bool exit_requested = false;
   bool actions_attached = false;
   bool focused_synced = false;
+  // The interaction profile current for each top-level user path (nullptr: none), chosen when
+  // the action sets are attached; the application hears of it at the first sync of the running
+  // session (XrEventDataInteractionProfileChanged).
+  std::array<const Profile*, kTopLevelCount> profiles{};
+  bool profiles_announced = false;
   // Frame order: waits, begins and ends counted; a frame is begun after a wait.
   std::uint64_t waited = 0;  // frames returned by xrWaitFrame
   std::uint64_t begun = 0;   // frames begun
@@ -91,11 +125,17 @@ struct Runtime {
   std::deque<XrEventDataBuffer> events;
   Script script = default_script();
   Record record;
+  std::string record_path;       // DEIXIS_XR_RECORD (captured images go next to it), or empty
   XrTime epoch = 1'000'000'000;  // the first frame is predicted one period after this
 
   bool extension_enabled(const char* name) const;
   std::uint64_t new_handle() { return next_handle++; }
   XrTime period() const;
+  // The display time input is sampled at: the last frame's predicted display time.
+  XrTime input_time() const;
+  XrPath find_path(std::string_view s) const;         // XR_NULL_PATH when never made
+  XrPath intern(std::string_view s);                  // the path, made when new
+  const std::string& path_string(XrPath path) const;  // empty for an unknown path
   // The script's sample for a display time.
   ScriptSample sample(XrTime time) const;
   // Queues a session state change (and records it).

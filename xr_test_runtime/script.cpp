@@ -61,7 +61,196 @@ ScriptPose lerp(const ScriptPose& a, const ScriptPose& b, float s) {
   return {a.position + s * (b.position - a.position), a.orientation.slerp(s, b.orientation)};
 }
 
+float in_range(const json& j, const std::string& where, float lo, float hi) {
+  const float v = number(j, where);
+  if (v < lo || v > hi) {
+    throw ParseError{where + ": must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                     "]"};
+  }
+  return v;
+}
+
+bool boolean(const json& j, const std::string& where) {
+  if (!j.is_boolean()) {
+    throw ParseError{where + ": expected true or false"};
+  }
+  return j.get<bool>();
+}
+
+// A control: true/false (a button), a number (an analog value), [x, y] (a stick or trackpad), or
+// {"click", "touch", "value", "force", "xy"} for each component on its own.
+ScriptControl control(const json& j, const std::string& where) {
+  ScriptControl c;
+  if (j.is_boolean()) {
+    c.click = c.touch = j.get<bool>();
+    c.value = c.force = c.click ? 1.0f : 0.0f;
+  } else if (j.is_number()) {
+    c.value = c.force = in_range(j, where, 0.0f, 1.0f);
+    c.touch = c.value > 0.0f;
+    c.click = c.value >= 0.5f;
+  } else if (j.is_array()) {
+    if (j.size() != 2) {
+      throw ParseError{where + ": expected [x, y]"};
+    }
+    c.x = in_range(j[0], where + "[0]", -1.0f, 1.0f);
+    c.y = in_range(j[1], where + "[1]", -1.0f, 1.0f);
+    c.touch = c.x != 0.0f || c.y != 0.0f;
+  } else if (j.is_object()) {
+    for (const auto& [field, value] : j.items()) {
+      const std::string at = where + "." + field;
+      if (field == "click") {
+        c.click = boolean(value, at);
+      } else if (field == "touch") {
+        c.touch = boolean(value, at);
+      } else if (field == "value") {
+        c.value = in_range(value, at, 0.0f, 1.0f);
+      } else if (field == "force") {
+        c.force = in_range(value, at, 0.0f, 1.0f);
+      } else if (field == "xy") {
+        if (!value.is_array()) {
+          throw ParseError{at + ": expected [x, y]"};
+        }
+        const ScriptControl xy = control(value, at);  // nested once at most: an array
+        c.x = xy.x;
+        c.y = xy.y;
+      } else {
+        throw ParseError{at + ": unknown component (click, touch, value, force, xy)"};
+      }
+    }
+  } else {
+    throw ParseError{where + ": expected true/false, a number, [x, y] or an object"};
+  }
+  return c;
+}
+
+// "input": {"right": {"select": true, "trigger": 0.8, "thumbstick": [0, 1]}, "left": {...}}.
+std::vector<ScriptInput> inputs(const json& j, const std::string& where) {
+  if (!j.is_object()) {
+    throw ParseError{where + ": expected {\"left\": {...}, \"right\": {...}, ...}"};
+  }
+  std::vector<ScriptInput> out;
+  for (const auto& [key, controls] : j.items()) {
+    std::optional<TopLevel> top;
+    for (std::size_t t = 0; t < kTopLevelCount; ++t) {
+      if (top_level_key(static_cast<TopLevel>(t)) == key &&
+          t != static_cast<std::size_t>(TopLevel::kEyes)) {
+        top = static_cast<TopLevel>(t);
+      }
+    }
+    if (!top) {
+      throw ParseError{where + "." + key + ": unknown device (left, right, head, gamepad)"};
+    }
+    if (!controls.is_object()) {
+      throw ParseError{where + "." + key + ": expected {\"identifier\": state, ...}"};
+    }
+    for (const auto& [identifier, state] : controls.items()) {
+      const std::string at = where + "." + key + "." + identifier;
+      if (!known_identifier(identifier)) {
+        throw ParseError{at + ": no interaction profile has this input"};
+      }
+      out.push_back({*top, identifier, control(state, at)});
+    }
+  }
+  return out;
+}
+
+const ScriptControl* find_control(const ScriptKey& key, TopLevel top, std::string_view identifier) {
+  for (const ScriptInput& in : key.inputs) {
+    if (in.top == top && in.identifier == identifier) {
+      return &in.control;
+    }
+  }
+  return nullptr;
+}
+
+XrEnvironmentBlendMode blend_mode(const json& j, const std::string& where) {
+  const std::string name = j.is_string() ? j.get<std::string>() : std::string();
+  if (name == "OPAQUE") {
+    return XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+  }
+  if (name == "ADDITIVE") {
+    return XR_ENVIRONMENT_BLEND_MODE_ADDITIVE;
+  }
+  if (name == "ALPHA_BLEND") {
+    return XR_ENVIRONMENT_BLEND_MODE_ALPHA_BLEND;
+  }
+  throw ParseError{where + ": expected \"OPAQUE\", \"ADDITIVE\" or \"ALPHA_BLEND\""};
+}
+
+// The headset-level fields: blend modes, profiles, captured frames.
+void headset(const json& j, Script& s) {
+  if (j.contains("blend_modes")) {
+    const json& modes = j["blend_modes"];
+    if (!modes.is_array() || modes.empty() || modes.size() > 3) {
+      throw ParseError{"blend_modes: expected 1 to 3 of \"OPAQUE\", \"ADDITIVE\", \"ALPHA_BLEND\""};
+    }
+    s.blend_modes.clear();
+    for (std::size_t i = 0; i < modes.size(); ++i) {
+      const XrEnvironmentBlendMode m =
+          blend_mode(modes[i], "blend_modes[" + std::to_string(i) + "]");
+      if (std::find(s.blend_modes.begin(), s.blend_modes.end(), m) != s.blend_modes.end()) {
+        throw ParseError{"blend_modes[" + std::to_string(i) + "]: listed twice"};
+      }
+      s.blend_modes.push_back(m);
+    }
+  }
+  if (j.contains("profiles")) {
+    const json& list = j["profiles"];
+    if (!list.is_array() || list.empty() || list.size() > profiles().size()) {
+      throw ParseError{"profiles: expected a non-empty array of interaction profile paths"};
+    }
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string where = "profiles[" + std::to_string(i) + "]";
+      if (!list[i].is_string() || find_profile(list[i].get<std::string>()) == nullptr) {
+        throw ParseError{where +
+                         ": not an interaction profile of the spec (e.g. "
+                         "\"/interaction_profiles/valve/index_controller\")"};
+      }
+      s.profiles.push_back(list[i].get<std::string>());
+    }
+  }
+  if (j.contains("capture_frames")) {
+    const json& list = j["capture_frames"];
+    if (!list.is_array() || list.size() > 64) {
+      throw ParseError{"capture_frames: expected an array of at most 64 frame indices"};
+    }
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      if (!list[i].is_number_unsigned() || list[i].get<std::uint64_t>() > (1ull << 40)) {
+        throw ParseError{"capture_frames[" + std::to_string(i) +
+                         "]: expected an integer from 0 to 2^40"};
+      }
+      s.capture_frames.push_back(list[i].get<long>());
+    }
+  }
+}
+
 }  // namespace
+
+ScriptControl Script::control_at(double t, TopLevel top, std::string_view identifier) const {
+  if (keys.empty()) {
+    return {};
+  }
+  const auto next = std::upper_bound(keys.begin(), keys.end(), t,
+                                     [](double v, const ScriptKey& k) { return v < k.t; });
+  if (next == keys.begin()) {
+    const ScriptControl* c = find_control(keys.front(), top, identifier);
+    return c != nullptr ? *c : ScriptControl{};
+  }
+  const ScriptKey& a = *(next - 1);
+  const ScriptControl* ca = find_control(a, top, identifier);
+  ScriptControl out = ca != nullptr ? *ca : ScriptControl{};
+  if (next == keys.end()) {
+    return out;
+  }
+  const ScriptControl* cb = find_control(*next, top, identifier);
+  const ScriptControl b = cb != nullptr ? *cb : ScriptControl{};
+  const float s = static_cast<float>((t - a.t) / std::max(next->t - a.t, 1e-9));
+  out.value += s * (b.value - out.value);
+  out.force += s * (b.force - out.force);
+  out.x += s * (b.x - out.x);
+  out.y += s * (b.y - out.y);
+  return out;
+}
 
 ScriptSample Script::at(double t) const {
   if (keys.empty()) {
@@ -154,6 +343,7 @@ std::optional<Script> load_script(const std::string& path, std::string& error) {
         *field = j[key].get<long>();
       }
     }
+    headset(j, s);
     if (!j.contains("keys") || !j["keys"].is_array() || j["keys"].empty()) {
       throw ParseError{"keys: expected a non-empty array"};
     }
@@ -192,6 +382,9 @@ std::optional<Script> load_script(const std::string& path, std::string& error) {
         k.sample.hands[h].tracked = true;
         k.sample.hands[h].wrist = pose(jh.value("wrist", json()), hw + ".wrist");
         k.sample.hands[h].index_tip = vec3(jh.value("index_tip", json()), hw + ".index_tip");
+      }
+      if (jk.contains("input")) {
+        k.inputs = inputs(jk["input"], where + ".input");
       }
       s.keys.push_back(k);
     }

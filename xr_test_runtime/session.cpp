@@ -2,6 +2,8 @@
 // destroy. The runtime enforces the spec's order and drives the states (IDLE, READY, then after
 // the first frame SYNCHRONIZED, VISIBLE, FOCUSED; STOPPING on exit; EXITING after xrEndSession).
 
+#include <cstdio>
+
 #include "xr_test_runtime/api.h"
 
 namespace deixis::xrt {
@@ -42,14 +44,14 @@ XrResult XRAPI_CALL CreateSession(XrInstance instance, const XrSessionCreateInfo
   if (rt.session != 0) {
     return rt.refuse("xrCreateSession", XR_ERROR_LIMIT_REACHED);
   }
-  bool gl = false;
-  for (auto* next = static_cast<const XrBaseInStructure*>(info->next); next != nullptr;
-       next = next->next) {
-    if (next->type == XR_TYPE_GRAPHICS_BINDING_EGL_MNDX ||
-        next->type == XR_TYPE_GRAPHICS_BINDING_OPENGL_XLIB_KHR) {
-      gl = true;
-    }
+  SessionGraphics graphics;
+  std::string problem;
+  if (!find_graphics_binding(info->next, rt.extension_enabled("XR_MNDX_egl_enable"), graphics,
+                             problem)) {
+    std::fprintf(stderr, "deixis xr test runtime: xrCreateSession: %s\n", problem.c_str());
+    return rt.refuse("xrCreateSession", XR_ERROR_GRAPHICS_DEVICE_INVALID);
   }
+  const bool gl = graphics.binding != GraphicsBinding::kNone;
   if (gl) {
     if (!rt.extension_enabled("XR_KHR_opengl_enable")) {
       return rt.refuse("xrCreateSession", XR_ERROR_VALIDATION_FAILURE);
@@ -58,11 +60,17 @@ XrResult XRAPI_CALL CreateSession(XrInstance instance, const XrSessionCreateInfo
       return rt.refuse("xrCreateSession", XR_ERROR_GRAPHICS_REQUIREMENTS_CALL_MISSING);
     }
   } else if (!rt.extension_enabled("XR_MND_headless")) {
+    // Without XR_MND_headless a session needs a binding the runtime knows (an EGL one only with
+    // XR_MNDX_egl_enable enabled).
     return rt.refuse("xrCreateSession", XR_ERROR_GRAPHICS_DEVICE_INVALID);
   }
   rt.session = rt.new_handle();
   rt.session_state = {};
   rt.session_state.headless = !gl;
+  rt.session_state.graphics = graphics;
+  rt.record.graphics = graphics.binding == GraphicsBinding::kXlib  ? "xlib"
+                       : graphics.binding == GraphicsBinding::kEgl ? "egl"
+                                                                   : "headless";
   *session = to_handle<XrSession>(rt.session);
   rt.change_state(XR_SESSION_STATE_IDLE, rt.epoch);
   rt.change_state(XR_SESSION_STATE_READY, rt.epoch);
@@ -76,6 +84,12 @@ XrResult XRAPI_CALL DestroySession(XrSession session) {
     return XR_ERROR_HANDLE_INVALID;
   }
   rt.spaces.clear();  // children of the session
+  if (const BoundContext bound(rt.session_state.graphics); bound.ok()) {
+    for (const auto& [id, swapchain] : rt.swapchains) {  // those the application left
+      rt.session_state.graphics.gl.DeleteTextures(static_cast<GLsizei>(swapchain.textures.size()),
+                                                  swapchain.textures.data());
+    }
+  }
   rt.swapchains.clear();
   rt.hand_trackers.clear();
   rt.session = 0;

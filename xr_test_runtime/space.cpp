@@ -9,6 +9,7 @@ namespace deixis::xrt {
 namespace {
 
 constexpr XrFovf kFov{-0.80f, 0.80f, 0.80f, -0.80f};  // radians, each eye
+constexpr float kStageExtent = 3.0f;                  // m: the stage is 3 m x 3 m
 
 bool valid_session(const Runtime& rt, XrSession session) {
   return rt.instance_live && rt.session != 0 && from_handle(session) == rt.session;
@@ -23,9 +24,9 @@ bool locate_in_stage(const Runtime& rt, const SpaceObject& space, XrTime time, S
       return false;
     }
     bool found = false;
-    for (const auto& [user, source] : it->second.bindings) {
-      if (space.subaction == XR_NULL_PATH || space.subaction == user) {
-        found = locate_source(source, time, base);
+    for (const ActionBinding& b : it->second.bindings) {
+      if (b.component == kPose && (space.subaction == XR_NULL_PATH || space.subaction == b.user)) {
+        found = locate_source(b.source, time, base);
         if (found) {
           break;
         }
@@ -167,6 +168,28 @@ XrResult XRAPI_CALL DestroySpace(XrSpace space) {
   Runtime& rt = state();
   std::lock_guard lock(rt.mutex);
   return rt.spaces.erase(from_handle(space)) == 1 ? XR_SUCCESS : XR_ERROR_HANDLE_INVALID;
+}
+
+XrResult XRAPI_CALL GetReferenceSpaceBoundsRect(XrSession session, XrReferenceSpaceType type,
+                                                XrExtent2Df* bounds) {
+  Runtime& rt = state();
+  std::lock_guard lock(rt.mutex);
+  if (!valid_session(rt, session)) {
+    return XR_ERROR_HANDLE_INVALID;
+  }
+  if (bounds == nullptr) {
+    return XR_ERROR_VALIDATION_FAILURE;
+  }
+  if (type != XR_REFERENCE_SPACE_TYPE_VIEW && type != XR_REFERENCE_SPACE_TYPE_LOCAL &&
+      type != XR_REFERENCE_SPACE_TYPE_STAGE) {
+    return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
+  }
+  if (type != XR_REFERENCE_SPACE_TYPE_STAGE) {
+    *bounds = {0.0f, 0.0f};
+    return XR_SPACE_BOUNDS_UNAVAILABLE;  // only the stage has bounds
+  }
+  *bounds = {kStageExtent, kStageExtent};
+  return XR_SUCCESS;
 }
 
 XrResult XRAPI_CALL LocateSpace(XrSpace space, XrSpace base, XrTime time,

@@ -1,7 +1,6 @@
-// Swapchains: GL textures created in the application's current context (an OpenGL session; a
+// Swapchains: GL textures of the application's context (an OpenGL session, EGL or Xlib/GLX; a
 // headless session offers no formats), and the acquire → wait → release order per image.
 
-#define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
 #include <GL/glext.h>
 
@@ -60,19 +59,29 @@ XrResult XRAPI_CALL CreateSwapchain(XrSession session, const XrSwapchainCreateIn
       std::find(std::begin(kFormats), std::end(kFormats), info->format) == std::end(kFormats)) {
     return rt.refuse("xrCreateSwapchain", XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED);
   }
+  // The images are textures of the application's context, made with it bound.
+  const BoundContext bound(rt.session_state.graphics);
+  if (!bound.ok()) {
+    return rt.refuse("xrCreateSwapchain", XR_ERROR_RUNTIME_FAILURE);  // cannot bind it
+  }
   SwapchainObject s;
   s.width = info->width;
   s.height = info->height;
+  s.format = info->format;
   s.textures.resize(s.image_count);
-  glGenTextures(static_cast<GLsizei>(s.image_count), s.textures.data());
-  for (GLuint t : s.textures) {
-    glBindTexture(GL_TEXTURE_2D, t);
-    glTexStorage2D(GL_TEXTURE_2D, 1, static_cast<GLenum>(info->format),
-                   static_cast<GLsizei>(info->width), static_cast<GLsizei>(info->height));
+  const GlFunctions& gl = rt.session_state.graphics.gl;
+  while (gl.GetError() != GL_NO_ERROR) {
+    // errors the application left: not ours to report
   }
-  glBindTexture(GL_TEXTURE_2D, 0);
-  if (glGetError() != GL_NO_ERROR) {
-    glDeleteTextures(static_cast<GLsizei>(s.image_count), s.textures.data());
+  gl.GenTextures(static_cast<GLsizei>(s.image_count), s.textures.data());
+  for (GLuint t : s.textures) {
+    gl.BindTexture(GL_TEXTURE_2D, t);
+    gl.TexStorage2D(GL_TEXTURE_2D, 1, static_cast<GLenum>(info->format),
+                    static_cast<GLsizei>(info->width), static_cast<GLsizei>(info->height));
+  }
+  gl.BindTexture(GL_TEXTURE_2D, 0);
+  if (gl.GetError() != GL_NO_ERROR) {
+    gl.DeleteTextures(static_cast<GLsizei>(s.image_count), s.textures.data());
     return rt.refuse("xrCreateSwapchain", XR_ERROR_RUNTIME_FAILURE);  // no current GL context?
   }
   const std::uint64_t id = rt.new_handle();
@@ -88,7 +97,10 @@ XrResult XRAPI_CALL DestroySwapchain(XrSwapchain swapchain) {
   if (it == rt.swapchains.end()) {
     return XR_ERROR_HANDLE_INVALID;
   }
-  glDeleteTextures(static_cast<GLsizei>(it->second.textures.size()), it->second.textures.data());
+  if (const BoundContext bound(rt.session_state.graphics); bound.ok()) {
+    rt.session_state.graphics.gl.DeleteTextures(static_cast<GLsizei>(it->second.textures.size()),
+                                                it->second.textures.data());
+  }
   rt.swapchains.erase(it);
   return XR_SUCCESS;
 }
@@ -178,6 +190,7 @@ XrResult XRAPI_CALL ReleaseSwapchainImage(XrSwapchain swapchain,
   if (s.acquired.empty() || !s.waited) {
     return rt.refuse("xrReleaseSwapchainImage", XR_ERROR_CALL_ORDER_INVALID);
   }
+  s.last_released = s.acquired.front();
   s.acquired.pop_front();
   s.waited = false;
   return XR_SUCCESS;
