@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "site/endpoint.h"
 
 extern char** environ;
 
@@ -140,6 +141,62 @@ int run_to_completion(const std::string& name, const std::string& program,
     usleep(20'000);
   }
   return child.exit_code();
+}
+
+namespace fs = std::filesystem;
+
+fs::path own_executable() {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) {
+    throw Error("cannot find this program's executable (/proc/self/exe): " + ec.message());
+  }
+  return self;
+}
+
+std::string failure(const ChildProcess& child) {
+  return child.name() + " failed with exit code " + std::to_string(child.exit_code()) +
+         " (its messages are above)";
+}
+
+void wait_for_all(std::initializer_list<ChildProcess*> children, double timeout) {
+  const double deadline = ChildProcess::now() + timeout;
+  const auto stop_all = [&] {
+    for (ChildProcess* c : children) {
+      c->terminate();
+    }
+  };
+  while (true) {
+    bool all_done = true;
+    for (ChildProcess* c : children) {
+      const bool done = c->poll();
+      if (done && c->exit_code() != 0) {
+        stop_all();
+        throw Error(failure(*c));
+      }
+      all_done = all_done && done;
+    }
+    if (all_done) {
+      return;
+    }
+    if (ChildProcess::now() > deadline) {
+      std::string late;
+      for (ChildProcess* c : children) {
+        late += c->poll() ? "" : c->name() + " ";
+      }
+      stop_all();
+      throw Error(late + "did not finish within " + std::to_string(timeout) + " s (--timeout)");
+    }
+    usleep(20'000);
+  }
+}
+
+void pass_passphrase(const std::string& passphrase) {
+  const int failed = passphrase.empty() ? unsetenv(site::kPassphraseVariable)
+                                        : setenv(site::kPassphraseVariable, passphrase.c_str(), 1);
+  if (failed != 0) {
+    throw Error(std::string("cannot set ") + site::kPassphraseVariable + " for the sites");
+  }
 }
 
 }  // namespace deixis::app

@@ -1,10 +1,13 @@
 #pragma once
-// A child process for `deixis demo`: started with posix_spawn, its standard output on a pipe we
-// read line by line (standard error stays ours, so its messages reach the user as they come),
-// waited for with a deadline, and killed if it is still running when the object goes.
+// A child process for `deixis demo` and `deixis eval --live-rooms`: started with posix_spawn, its
+// standard output on a pipe we read line by line (standard error stays ours, so its messages reach
+// the user as they come), waited for with a deadline, and killed if it is still running when the
+// object goes.
 
 #include <sys/types.h>
 
+#include <filesystem>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,5 +55,19 @@ class ChildProcess {
 // deixis::Error if it does not finish by `timeout` seconds.
 int run_to_completion(const std::string& name, const std::string& program,
                       const std::vector<std::string>& args, double timeout);
+
+// This program's executable (/proc/self/exe), to start itself as sites; throws deixis::Error.
+std::filesystem::path own_executable();
+
+// "<name> failed with exit code N (its messages are above)".
+std::string failure(const ChildProcess& child);
+
+// Waits for every child to exit 0; the first that fails, or `timeout` seconds passing, ends the
+// others and throws deixis::Error naming it (or those still running).
+void wait_for_all(std::initializer_list<ChildProcess*> children, double timeout);
+
+// Sites started after this read `passphrase` from DEIXIS_PASSPHRASE, which they inherit: on
+// their command lines other users of the machine could read it (ps). Empty: none is inherited.
+void pass_passphrase(const std::string& passphrase);
 
 }  // namespace deixis::app

@@ -729,7 +729,34 @@ void add_eval(CLI::App& program, const Invocation& invocation, std::vector<Runne
       ->capture_default_str();
   cmd->add_flag("--quick", eval->quick,
                 "A tiny sample (2 sequences per category and subject): seconds, for CI");
-  runners.push_back({cmd, [eval] { return run_eval(*eval); }});
+  auto live = std::make_shared<LiveRoomsOptions>();
+  live->weights_dir = default_weights_dir();
+  live->avatar = demo_site("a.json").parent_path().parent_path() / "avatars/default.glb";
+  live->command_line = eval->command_line;
+  CLI::Option* live_rooms =
+      cmd->add_option("--live-rooms", live->pairs,
+                      "Instead of the tables: N room pairs laid out at random under the rules of "
+                      "docs/eval.md (\"Live rooms\"), each run as deixis host + join on "
+                      "loopback "
+                      "with held-out subjects (--subjects to choose); the completions both sites "
+                      "observed, pooled into live_rooms.md, .json and .png under --out")
+          ->check(CLI::Range(1, 1000));
+  cmd->add_option("--seed", live->seed, "With --live-rooms: the seed the rooms are laid out from")
+      ->capture_default_str()
+      ->needs(live_rooms);
+  cmd->add_option("--pair-timeout", live->timeout,
+                  "With --live-rooms: seconds a pair's two sites may take")
+      ->capture_default_str()
+      ->check(CLI::Range(10.0, 3600.0))
+      ->needs(live_rooms);
+  runners.push_back({cmd, [eval, live] {
+                       if (live->pairs > 0) {
+                         live->subjects = eval->subjects;
+                         live->out_dir = eval->out_dir;
+                         return run_eval_live_rooms(*live);
+                       }
+                       return run_eval(*eval);
+                     }});
 }
 
 }  // namespace deixis::app

@@ -134,6 +134,23 @@ struct EvalOptions {
 };
 int run_eval(const EvalOptions& options);
 
+// `deixis eval --live-rooms N` (docs/eval.md, "Live rooms"): N room pairs generated under the
+// stated rules (eval/room_pairs.h) from `seed`, each run as `deixis host` + `deixis join` on
+// loopback (this program started twice), their observers' completions pooled into
+// live_rooms.md, live_rooms.json and live_rooms.png under `out_dir` (each pair's sites and
+// session.json under live_rooms/pair-NNN/). Exit 0 with the report, 1 when a pair's sites fail, 2 for bad flags.
+struct LiveRoomsOptions {
+  int pairs = 0;
+  std::uint64_t seed = 1;
+  std::vector<std::string> subjects;  // who performs; empty: every held-out test subject
+  std::filesystem::path weights_dir;
+  std::filesystem::path avatar;  // what remote people wear in every room
+  std::filesystem::path out_dir = "out/eval";
+  double timeout = 120.0;  // s per pair
+  std::string command_line;
+};
+int run_eval_live_rooms(const LiveRoomsOptions& options);
+
 // Why `dir` cannot be `deixis eval`'s data (missing, not a directory, no
 // test_<subject>.safetensors in it), with the command that makes the test sets (`program`
 // capture generate --sets test -o DIR); empty when it can.

@@ -33,15 +33,6 @@ using json = nlohmann::json;
 constexpr double kListenTimeout = 60.0;  // s for the host's setup (weights, avatar, script)
 constexpr double kFfmpegTimeout = 120.0;
 
-fs::path own_executable() {
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) {
-    throw Error("cannot find this program's executable (/proc/self/exe): " + ec.message());
-  }
-  return self;
-}
-
 std::vector<std::string> site_args(const DemoOptions& o, const fs::path& site,
                                    const fs::path& out) {
   std::vector<std::string> args = {"--site",        site.string(),          "--out",  out.string(),
@@ -52,57 +43,8 @@ std::vector<std::string> site_args(const DemoOptions& o, const fs::path& site,
   return args;  // the passphrase goes through the environment (pass_passphrase), never argv
 }
 
-std::string failure(const ChildProcess& child) {
-  return child.name() + " failed with exit code " + std::to_string(child.exit_code()) +
-         " (its messages are above)";
-}
-
-// Waits for every site; a failure of one ends the others.
-void wait_for_sites(std::initializer_list<ChildProcess*> sites, double timeout) {
-  const double deadline = ChildProcess::now() + timeout;
-  const auto stop_all = [&] {
-    for (ChildProcess* c : sites) {
-      c->terminate();
-    }
-  };
-  while (true) {
-    bool all_done = true;
-    for (ChildProcess* c : sites) {
-      const bool done = c->poll();
-      if (done && c->exit_code() != 0) {
-        stop_all();
-        throw Error(failure(*c));
-      }
-      all_done = all_done && done;
-    }
-    if (all_done) {
-      return;
-    }
-    if (ChildProcess::now() > deadline) {
-      std::string late;
-      for (ChildProcess* c : sites) {
-        late += c->poll() ? "" : c->name() + " ";
-      }
-      stop_all();
-      throw Error(late + "did not finish within " + std::to_string(timeout) + " s (--timeout)");
-    }
-    usleep(20'000);
-  }
-}
-
-// The sites read the passphrase from DEIXIS_PASSPHRASE, which they inherit: on their command
-// lines other users of the machine could read it (ps). Without one, none is inherited either.
-void pass_passphrase(const DemoOptions& o) {
-  const int failed = o.passphrase.empty()
-                         ? unsetenv(site::kPassphraseVariable)
-                         : setenv(site::kPassphraseVariable, o.passphrase.c_str(), 1);
-  if (failed != 0) {
-    throw Error(std::string("cannot set ") + site::kPassphraseVariable + " for the sites");
-  }
-}
-
 void run_sites(const DemoOptions& o, const fs::path& self) {
-  pass_passphrase(o);
+  pass_passphrase(o.passphrase);
   ChildProcess host("site A (host)", self.string(), [&] {
     std::vector<std::string> a = {"host", "--port", "0", "--bind", "127.0.0.1"};
     const auto rest = site_args(o, o.site_a, o.out_dir / "A");
@@ -122,12 +64,12 @@ void run_sites(const DemoOptions& o, const fs::path& self) {
     a.insert(a.end(), rest.begin(), rest.end());
     return a;
   }());
-  wait_for_sites({&host, &join}, o.timeout);
+  wait_for_all({&host, &join}, o.timeout);
 }
 
 // A relay and three sites in the room "demo"; the relay ends with the sites.
 void run_room_sites(const DemoOptions& o, const fs::path& self) {
-  pass_passphrase(o);
+  pass_passphrase(o.passphrase);
   ChildProcess relay("the relay", self.string(), {"relay", "--port", "0", "--bind", "127.0.0.1"});
   const std::optional<std::string> port =
       relay.line_starting("port ", ChildProcess::now() + kListenTimeout);
@@ -144,7 +86,7 @@ void run_room_sites(const DemoOptions& o, const fs::path& self) {
   const auto a = site_process("site A", o.site_a, "A");
   const auto b = site_process("site B", o.site_b, "B");
   const auto c = site_process("site C", o.site_c, "C");
-  wait_for_sites({a.get(), b.get(), c.get()}, o.timeout);
+  wait_for_all({a.get(), b.get(), c.get()}, o.timeout);
   relay.terminate();
 }
 
