@@ -736,8 +736,7 @@ void add_eval(CLI::App& program, const Invocation& invocation, std::vector<Runne
   CLI::Option* live_rooms =
       cmd->add_option("--live-rooms", live->pairs,
                       "Instead of the tables: N room pairs laid out at random under the rules of "
-                      "docs/eval.md (\"Live rooms\"), each run as deixis host + join on "
-                      "loopback "
+                      "docs/live-rooms.md, each run as deixis host + join on loopback "
                       "with held-out subjects (--subjects to choose); the completions both sites "
                       "observed, pooled into live_rooms.md, .json and .png under --out")
           ->check(CLI::Range(1, 1000));

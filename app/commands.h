@@ -134,7 +134,7 @@ struct EvalOptions {
 };
 int run_eval(const EvalOptions& options);
 
-// `deixis eval --live-rooms N` (docs/eval.md, "Live rooms"): N room pairs generated under the
+// `deixis eval --live-rooms N` (docs/live-rooms.md): N room pairs generated under the
 // stated rules (eval/room_pairs.h) from `seed`, each run as `deixis host` + `deixis join` on
 // loopback (this program started twice), their observers' completions pooled into
 // live_rooms.md, live_rooms.json and live_rooms.png under `out_dir` (each pair's sites and

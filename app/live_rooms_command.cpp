@@ -1,4 +1,4 @@
-// `deixis eval --live-rooms N` (docs/eval.md, "Live rooms"): the translator measured end to end
+// `deixis eval --live-rooms N` (docs/live-rooms.md): the translator measured end to end
 // in rooms nobody designed. For each of N room pairs generated under stated rules
 // (eval/room_pairs.h) this process starts itself as `deixis host` (room A) and `deixis join`
 // (room B) on loopback, as a user would, waits for both, and reads the completion states each

@@ -246,7 +246,7 @@ std::string live_rooms_markdown(const LiveSummary& s, const std::string& command
   std::ostringstream md;
   md << "## Live rooms: host and join in generated room pairs\n\n"
      << "`" << command_line << "` — " << s.pairs
-     << " room pairs (docs/eval.md, \"Live rooms\"), every completion state each site's observer "
+     << " room pairs (docs/live-rooms.md), every completion state each site's observer "
         "recorded of the other person. Angles in degrees, touch in cm; copy-paste is the "
         "person's pose copied onto the avatar's spot unchanged.\n\n";
   md << "### Pointing\n\n";

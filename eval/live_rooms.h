@@ -1,5 +1,5 @@
 #pragma once
-// What `deixis eval --live-rooms` reports (docs/eval.md, "Live rooms"): the completions each site's
+// What `deixis eval --live-rooms` reports (docs/live-rooms.md): the completions each site's
 // observer recorded of the other person (site/site_report.h, `remote_completions`), pooled over
 // generated room pairs (eval/room_pairs.h), as distributions — mean, median, 90th percentile and
 // worst — for Deixis' avatar and for copying the pose, overall, per subject and per target

@@ -1,7 +1,7 @@
 #pragma once
-// Room pairs nobody designed, for the live evaluation (`deixis eval --live-rooms`, docs/eval.md,
-// "Live rooms"): two rooms furnished at random under stated rules, each with a scripted user who
-// looks at the other person, points at three objects and touches one, and the other person's
+// Room pairs nobody designed, for the live evaluation (`deixis eval --live-rooms`,
+// docs/live-rooms.md): two rooms furnished at random under stated rules, each with a scripted user
+// who looks at the other person, points at three objects and touches one, and the other person's
 // avatar facing them. The same object (by id) stands elsewhere in each room, as the method
 // expects. Generation is pure: the same rules, seed and index give the same pair, bit for bit.
 //
@@ -18,8 +18,8 @@
 
 namespace deixis::eval {
 
-// Every range a generated room keeps to (metres, degrees; docs/eval.md lists them). Room frame:
-// the user stands at the origin facing −Z; the avatar's spot is on the user's line of sight,
+// Every range a generated room keeps to (metres, degrees; docs/live-rooms.md lists them). Room
+// frame: the user stands at the origin facing −Z; the avatar's spot is on the user's line of sight,
 // facing the user.
 struct RoomRules {
   float spot_distance_min = 1.8f, spot_distance_max = 2.6f;  // user to avatar spot
