@@ -4,7 +4,6 @@
 // Exit codes: 0 done, 1 the judge's MPE is above --max-mpe, 2 bad parameters or files.
 
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -236,7 +235,7 @@ void write_resampled(std::ostream& out, const mocap::Bvh& bvh, double metres_per
   mocap::BvhPlayer player(bvh, metres_per_unit, mocap::Playback::kOnce);
   const double start = static_cast<double>(first) * bvh.frame_time;
   const double span = static_cast<double>(last - 1 - first) * bvh.frame_time;
-  const auto count = static_cast<std::size_t>(std::floor(span * rate + 1e-9)) + 1;
+  const auto count = mocap::sample_count(span, rate);
   TrackingFrame f;
   for (std::size_t k = 0; k < count; ++k) {
     player.at(start + static_cast<double>(k) / rate, f);
@@ -270,7 +269,8 @@ int run_capture_bvh(const CaptureBvhOptions& o) {
                  static_cast<double>(c.height), static_cast<double>(c.arm_length),
                  tracking.upright_frame());
     if (o.rate > 0.0) {
-      std::fprintf(stderr, "deixis capture bvh: resampled at %.6g Hz (the player's interpolation)\n",
+      std::fprintf(stderr,
+                   "deixis capture bvh: resampled at %.6g Hz (the player's interpolation)\n",
                    o.rate);
     }
     std::ofstream file;

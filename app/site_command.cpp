@@ -1,7 +1,8 @@
 // `deixis host` / `deixis join`: one headless site whose user is the site's scripted person
 // (docs/demo.md). This file performs the script (the capture's virtual user: a tool the site
-// runtime never links) and hands the performance to the scripted site (site/scripted_site.h),
-// which runs the 30 Hz loop through the one site runtime.
+// runtime never links), or plays the site's BVH recording (site/recorded_user.h), and hands
+// the performance to the scripted site (site/scripted_site.h), which runs the 30 Hz loop through
+// the one site runtime.
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -15,6 +16,7 @@
 #include "capture/subject.h"
 #include "capture/virtual_user.h"
 #include "core/error.h"
+#include "site/recorded_user.h"
 #include "site/remote_people.h"
 #include "site/scripted_site.h"
 
@@ -29,6 +31,9 @@ namespace fs = std::filesystem;
 // (run_site checks).
 site::ScriptedUser perform_virtual_user(const site::SiteRunOptions& o, const site::SiteAssets& a) {
   const site::VirtualUser& user = *a.site.virtual_user;
+  if (user.recording) {
+    return site::play_recorded_user(a.site, o.seconds);
+  }
   // The k-th person the script names is aimed at where the avatar on spot k stands; at run time
   // the target becomes whoever of that site is in the room (site/remote_people.h).
   std::vector<capture::ScenePerson> people;
@@ -79,6 +84,9 @@ int run_site(const site::SiteRunOptions& options) {
     site::load_run_avatars(*assets, options);
     user = perform_virtual_user(options, *assets);
     use_site_logger(options, assets->site.site);
+    if (assets->site.virtual_user->recording) {
+      spdlog::info("{}", site::describe_recorded_user(assets->site, user));
+    }
     for (const site::BehindSpot& b : site::behind_spots(assets->site)) {
       spdlog::warn("{}", site::describe(assets->site, b));
     }

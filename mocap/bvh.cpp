@@ -400,6 +400,17 @@ Bvh read_bvh(const std::filesystem::path& path, const BvhLimits& limits) {
   return parse_bvh(text, path.string(), limits);
 }
 
+Bvh slice(const Bvh& bvh, std::size_t first, std::size_t end) {
+  Bvh out;
+  out.source = bvh.source;
+  out.nodes = bvh.nodes;
+  out.channels = bvh.channels;
+  out.frame_time = bvh.frame_time;
+  const auto begin = bvh.motion.begin() + static_cast<std::ptrdiff_t>(first * bvh.channels);
+  out.motion.assign(begin, begin + static_cast<std::ptrdiff_t>((end - first) * bvh.channels));
+  return out;
+}
+
 std::string write_bvh(const Bvh& b) {
   std::ostringstream out;
   char buffer[48];

@@ -73,6 +73,8 @@ Bvh parse_bvh(std::string_view text, const std::string& source, const BvhLimits&
 Bvh read_bvh(const std::filesystem::path& path, const BvhLimits& limits = {});
 // The file again (every value with 9 significant digits): parse_bvh(write_bvh(b)) gives b.
 std::string write_bvh(const Bvh& bvh);
+// Frames [first, end) as a recording of their own (a site's `from`/`to`); first < end <= frames.
+Bvh slice(const Bvh& bvh, std::size_t first, std::size_t end);
 
 // A node's world transform (double precision; lengths already scaled to metres).
 struct JointPose {

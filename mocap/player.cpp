@@ -51,4 +51,8 @@ void BvhPlayer::at(double time, TrackingFrame& out) {
   }
 }
 
+std::size_t sample_count(double span, double rate) {
+  return static_cast<std::size_t>(std::floor(span * rate + 0.01)) + 1;
+}
+
 }  // namespace deixis::mocap

@@ -33,4 +33,9 @@ class BvhPlayer {
   TrackingFrame b_;
 };
 
+// How many samples at `rate` Hz cover `span` s, both ends included. Frame times are often written
+// rounded (CMU's .0083333 for 1/120 s: 360 frames last 2.99999 s): a sample within 1 % of an
+// interval past the end still counts.
+std::size_t sample_count(double span, double rate);
+
 }  // namespace deixis::mocap

@@ -270,6 +270,24 @@ std::size_t SkeletonTracking::upright_frame() {
               "wrists) to calibrate the body from");
 }
 
+Pose SkeletonTracking::ground(std::size_t i) {
+  forward_kinematics(bvh_, bvh_.frame(i), scale_, poses_);
+  double low = poses_.front().p.y();
+  for (const JointPose& p : poses_) {
+    low = std::min(low, p.p.y());
+  }
+  // The root's rotation is the identity in the rest pose (its channels all zero), so the rest
+  // frame's back axis turned by it is where the pelvis faces now.
+  Eigen::Vector3d forward = -(poses_.front().R * rest_frame_.col(2));
+  if (std::hypot(forward.x(), forward.z()) < 1e-3) {
+    forward = -(poses_[static_cast<std::size_t>(roles_.head)].R * rest_frame_.col(2));
+  }
+  const Eigen::Vector3d& root = poses_.front().p;
+  return Pose{
+      yaw_rotation(static_cast<float>(std::atan2(-forward.x(), -forward.z()))),
+      Vec3(static_cast<float>(root.x()), static_cast<float>(low), static_cast<float>(root.z()))};
+}
+
 BodyCalibration SkeletonTracking::calibrate(Hand deictic_hand) {
   const std::size_t i = upright_frame();
   TrackingFrame f;

@@ -44,6 +44,11 @@ class SkeletonTracking {
   // both wrists); deixis::Error when no frame is upright.
   BodyCalibration calibrate(Hand deictic_hand = Hand::kRight);
   std::size_t upright_frame();
+  // Where the person stands at frame `i` (docs/bvh.md#driving-a-site): under the root joint, at
+  // the height of the frame's lowest node, facing where the root faces (the rest pose's forward
+  // turned by the root joint's rotation, about the vertical only; the head's where the root
+  // points up or down). Yaw only, −Z forward. Allocates nothing; poses() become frame i's.
+  Pose ground(std::size_t i);
 
   const JointRoles& roles() const { return roles_; }
   double rest_stature() const { return stature_; }                // m, the rest pose's height

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "core/error.h"
 #include "core/io/json_reader.h"
 
 namespace deixis::site {
@@ -107,10 +108,136 @@ ScriptStep parse_step(const JsonReader& r, const json& j, const std::string& pat
   return step;
 }
 
+// One of `names` (e.g. "loop", "once") as its index; `fallback` when the field is absent.
+std::size_t parse_choice(const JsonReader& r, const json& j, const std::string& path,
+                         const char* key, std::initializer_list<std::string_view> names,
+                         std::size_t fallback) {
+  if (!j.contains(key)) {
+    return fallback;
+  }
+  const std::string at = path + "." + key;
+  const std::string value = r.string(j[key], at);
+  std::string expected;
+  std::size_t i = 0;
+  for (const std::string_view name : names) {
+    if (value == name) {
+      return i;
+    }
+    expected += (i++ == 0 ? "" : " or ") + std::string(name);
+  }
+  r.fail(at, "expected " + expected + ", found '" + value + "'");
+}
+
+// The frames of `bvh` that `from` and `to` (s, optional) name, rounded to the nearest frame.
+mocap::Bvh played_frames(const JsonReader& r, const json& j, const std::string& path,
+                         const mocap::Bvh& bvh) {
+  const double duration = static_cast<double>(bvh.frames() - 1) * bvh.frame_time;
+  const double from = j.contains("from")
+                          ? static_cast<double>(r.number_in(j["from"], path + ".from", 0, 1e6))
+                          : 0.0;
+  const double to =
+      j.contains("to") ? static_cast<double>(r.number_in(j["to"], path + ".to", 0, 1e6)) : duration;
+  char range[96];
+  std::snprintf(range, sizeof range, "the recording runs from 0 to %.3f s", duration);
+  if (from > duration) {
+    r.fail(path + ".from", std::string("beyond the end: ") + range);
+  }
+  if (to > duration + 0.5 * bvh.frame_time) {
+    r.fail(path + ".to", std::string("beyond the end: ") + range);
+  }
+  const auto first = static_cast<std::size_t>(std::lround(from / bvh.frame_time));
+  const auto last =
+      std::min(bvh.frames() - 1, static_cast<std::size_t>(std::lround(to / bvh.frame_time)));
+  if (last <= first) {
+    r.fail(path + ".to", "must come after from (at least one frame time later)");
+  }
+  return mocap::slice(bvh, first, last + 1);
+}
+
+// `virtual_user` with a `bvh` (docs/bvh.md#driving-a-site): the recording is read and checked
+// here, its errors under virtual_user.bvh, so a site never starts with a recording it cannot play.
+RecordedUser parse_recorded_user(const JsonReader& r, const json& j, const std::string& path,
+                                 const std::filesystem::path& base_dir) {
+  for (const char* key : {"script", "seed"}) {
+    if (j.contains(key)) {
+      r.fail(path + "." + key,
+             "a recording (bvh) plays what was recorded: it takes no script or seed");
+    }
+  }
+  RecordedUser user;
+  user.path = base_dir / r.string(j["bvh"], path + ".bvh");
+  mocap::Bvh bvh;
+  try {
+    bvh = mocap::read_bvh(user.path);
+  } catch (const Error& e) {
+    r.fail(path + ".bvh", e.what());
+  }
+  if (j.contains("unit")) {
+    const std::string unit = r.string(j["unit"], path + ".unit");
+    try {
+      user.unit = mocap::parse_length_unit(unit);
+    } catch (const Error& e) {
+      r.fail(path + ".unit", e.what());
+    }
+  }
+  if (user.unit == mocap::LengthUnit::kAuto) {
+    try {
+      user.unit = mocap::infer_unit(bvh);
+    } catch (const Error& e) {
+      r.fail(path + ".unit", e.what());
+    }
+  }
+  user.play.metres_per_unit = mocap::metres_per_unit(user.unit);
+  user.play.playback = parse_choice(r, j, path, "playback", {"loop", "once"}, 0) == 0
+                           ? mocap::Playback::kLoop
+                           : mocap::Playback::kOnce;
+  user.play.deictic_hand = parse_choice(r, j, path, "deictic_hand", {"right", "left"}, 0) == 0
+                               ? Hand::kRight
+                               : Hand::kLeft;
+  if (j.contains("body")) {
+    const json& body = j["body"];
+    const std::string at = path + ".body";
+    if (!body.is_object()) {
+      r.fail(at, "expected an object with height and arm_length (m)");
+    }
+    r.only_fields(body, at, {"height", "arm_length"});
+    user.play.body = mocap::StatedBody{
+        r.number_in(r.member(body, at, "height"), at + ".height", 1.0f, 2.5f),
+        r.number_in(r.member(body, at, "arm_length"), at + ".arm_length", 0.3f, 1.2f)};
+  }
+  user.bvh = std::make_shared<const mocap::Bvh>(played_frames(r, j, path, bvh));
+  // The joints and, unless stated, the body: what playing needs, checked now.
+  try {
+    mocap::SkeletonTracking tracking(*user.bvh, user.play.metres_per_unit);
+    if (!user.play.body) {
+      tracking.calibrate(user.play.deictic_hand);
+    }
+  } catch (const Error& e) {
+    r.fail(path + ".bvh", std::string(e.what()) +
+                              (user.play.body ? "" : " (or state the body: virtual_user.body)"));
+  }
+  return user;
+}
+
 VirtualUser parse_virtual_user(const JsonReader& r, const json& j, const std::string& path,
-                               const SiteConfig& config) {
-  r.only_fields(j, path, {"subject", "seed", "script"});
+                               const SiteConfig& config, const std::filesystem::path& base_dir) {
+  r.only_fields(j, path,
+                {"subject", "seed", "script", "bvh", "playback", "unit", "from", "to", "body",
+                 "deictic_hand"});
   VirtualUser user;
+  if (j.contains("subject") == j.contains("bvh")) {
+    r.fail(path, "give either a subject (the synthetic capture) or a bvh (a recording), not " +
+                     std::string(j.contains("bvh") ? "both" : "neither"));
+  }
+  if (j.contains("bvh")) {
+    user.recording = parse_recorded_user(r, j, path, base_dir);
+    return user;
+  }
+  for (const char* key : {"playback", "unit", "from", "to", "body", "deictic_hand"}) {
+    if (j.contains(key)) {
+      r.fail(path + "." + key, "only a recording (bvh) takes it");
+    }
+  }
   user.subject = r.string(r.member(j, path, "subject"), path + ".subject");
   if (j.contains("seed")) {
     user.seed = static_cast<std::uint64_t>(
@@ -244,7 +371,8 @@ SiteConfig parse_site_config(std::string_view json_text, std::string_view source
     config.camera = parse_camera(r, j["camera"], "camera");
   }
   if (j.contains("virtual_user")) {
-    config.virtual_user = parse_virtual_user(r, j["virtual_user"], "virtual_user", config);
+    config.virtual_user =
+        parse_virtual_user(r, j["virtual_user"], "virtual_user", config, base_dir);
   }
   return config;
 }

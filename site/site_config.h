@@ -6,6 +6,7 @@
 // the bad field, e.g. "sites/a.json: remote_avatar.floor[2]: not a finite number".
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -14,6 +15,8 @@
 #include "core/math/pose.h"
 #include "core/script_step.h"
 #include "core/target_map.h"
+#include "mocap/bvh.h"
+#include "mocap/recorded_person.h"
 
 namespace deixis::site {
 
@@ -29,8 +32,19 @@ struct Placement {
 // without depending on app/). Targets are ids of the target map (0: the other person), or a
 // person by site name (script_person_target).
 
+// A recorded person instead of a synthetic one (`virtual_user.bvh`, docs/bvh.md#driving-a-site):
+// the file is read, its joints found and its body calibrated when the site file is parsed, so a
+// bad recording is refused before anything connects.
+struct RecordedUser {
+  std::filesystem::path path;             // the .bvh, resolved against the site file's folder
+  std::shared_ptr<const mocap::Bvh> bvh;  // the frames from `from` to `to` only
+  mocap::LengthUnit unit = mocap::LengthUnit::kAuto;  // as resolved (never kAuto here)
+  mocap::RecordingPlay play;
+};
+
 struct VirtualUser {
-  std::string subject;  // a synthetic-capture subject, e.g. "173"
+  std::string subject;  // a synthetic-capture subject, e.g. "173"; empty for a recording
+  std::optional<RecordedUser> recording;  // exactly one of subject / recording
   std::uint64_t seed = 1;
   std::vector<ScriptStep> script;
   // The site names of the people the script looks or points at, in order of first mention:

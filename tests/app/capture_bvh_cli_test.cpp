@@ -59,6 +59,65 @@ TEST(CaptureBvhCli, ARecordingBecomesTrackingCsv) {
   }
 }
 
+// --rate 30 through the player: 3 s of the 120 Hz recording give 91 rows whose times step by
+// 1/30 s from --from's time, and where a sample falls on a recorded frame (every fourth) it is
+// that frame's row of the run without --rate. 45 Hz falls between frames: its rows are finite and
+// step by 1/45 s.
+TEST(CaptureBvhCli, RateResamplesThroughThePlayer) {
+  if (!fs::exists(kCmu)) {
+    GTEST_SKIP() << "no " << kCmu << " (Debian's assimp-testmodels; tools/install-deps)";
+  }
+  deixis::testing::ScratchDir dir;
+  const fs::path own = dir.path() / "own.csv";
+  const fs::path at30 = dir.path() / "30.csv";
+  const fs::path at45 = dir.path() / "45.csv";
+  const std::vector<std::string> range = {"--from", "120", "--to", "481"};
+  Deixis a(std::vector<std::string>{"capture", "bvh", kCmu.string(), "--csv", own.string()} +
+           range);
+  ASSERT_EQ(a.wait(), 0) << a.err();
+  Deixis b(std::vector<std::string>{"capture", "bvh", kCmu.string(), "--csv", at30.string(),
+                                    "--rate", "30"} +
+           range);
+  ASSERT_EQ(b.wait(), 0) << b.err();
+  EXPECT_NE(b.err().find("resampled at 30 Hz"), std::string::npos) << b.err();
+  Deixis c(std::vector<std::string>{"capture", "bvh", kCmu.string(), "--csv", at45.string(),
+                                    "--rate", "45"} +
+           range);
+  ASSERT_EQ(c.wait(), 0) << c.err();
+  const auto rows = read_csv(own);
+  const auto rows30 = read_csv(at30);
+  const auto rows45 = read_csv(at45);
+  ASSERT_EQ(rows.size(), 362u);
+  ASSERT_EQ(rows30.size(), 92u);
+  ASSERT_EQ(rows45.size(), 136u);  // floor(3 s x 45) + 1 samples and the header
+  EXPECT_EQ(rows30[0], rows[0]);
+  for (std::size_t k = 0; k < 91; ++k) {
+    const auto& sampled = rows30[1 + k];
+    const auto& recorded = rows[1 + 4 * k];
+    ASSERT_EQ(sampled.size(), recorded.size());
+    EXPECT_EQ(sampled[0], std::to_string(k));
+    EXPECT_NEAR(std::stod(sampled[1]), 1.0 + static_cast<double>(k) / 30.0, 1e-5);
+    EXPECT_EQ(sampled[2], "15");
+    for (std::size_t col = 3; col < sampled.size(); ++col) {
+      // Quaternions may come out negated (the same rotation); positions and gaze must agree.
+      const double s = std::stod(sampled[col]);
+      const double r = std::stod(recorded[col]);
+      const bool quaternion = rows[0][col].find("_q") != std::string::npos;
+      EXPECT_NEAR(quaternion ? std::abs(s) : s, quaternion ? std::abs(r) : r, 2e-5)
+          << rows[0][col] << " at sample " << k;
+    }
+  }
+  for (std::size_t k = 1; k + 1 < rows45.size(); ++k) {
+    EXPECT_NEAR(std::stod(rows45[k + 1][1]) - std::stod(rows45[k][1]), 1.0 / 45.0, 1e-5);
+    for (const std::string& cell : rows45[k]) {
+      EXPECT_TRUE(std::isfinite(std::stod(cell))) << cell;
+    }
+  }
+  Deixis zero({"capture", "bvh", kCmu.string(), "--rate", "0"});
+  EXPECT_NE(zero.wait(), 0);
+  EXPECT_NE(zero.err().find("--rate"), std::string::npos) << zero.err();
+}
+
 TEST(CaptureBvhCli, BadFlagsAndFilesExit2NamingThem) {
   deixis::testing::ScratchDir dir;
   const fs::path bad = dir.path() / "bad.bvh";
