@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "xr/glx_binding.h"
 #include "xr/xr_struct.h"
 
 namespace deixis::xr {
@@ -56,13 +57,20 @@ GlSession::GlSession(const Instance& instance) : headless_(instance.features().h
   auto ci = make<XrSessionCreateInfo>(XR_TYPE_SESSION_CREATE_INFO);
   ci.systemId = instance.system();
   XrGraphicsBindingEGLMNDX binding{};
+  std::shared_ptr<const void> glx;  // XrGraphicsBindingOpenGLXlibKHR (xr/glx_binding.h)
   if (!headless_) {
     auto requirements =
         make<XrGraphicsRequirementsOpenGLKHR>(XR_TYPE_GRAPHICS_REQUIREMENTS_OPENGL_KHR);
     const auto get_requirements = instance.function<PFN_xrGetOpenGLGraphicsRequirementsKHR>(
         "xrGetOpenGLGraphicsRequirementsKHR");
     XR_CHECK(xi, get_requirements(xi, instance.system(), &requirements));
-    binding = current_egl_binding();
+    if (instance.features().egl) {
+      binding = current_egl_binding();
+      ci.next = &binding;
+    } else {
+      glx = current_glx_binding();
+      ci.next = glx.get();
+    }
     GLint major = 0;
     GLint minor = 0;
     glGetIntegerv(GL_MAJOR_VERSION, &major);
@@ -74,7 +82,6 @@ GlSession::GlSession(const Instance& instance) : headless_(instance.features().h
                   std::to_string(XR_VERSION_MINOR(requirements.minApiVersionSupported)) +
                   "; the context has " + std::to_string(major) + "." + std::to_string(minor));
     }
-    ci.next = &binding;
   }
   XR_CHECK(xi, xrCreateSession(xi, &ci, &session_));
   try {

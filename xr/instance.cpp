@@ -66,15 +66,19 @@ Instance::Instance(const InstanceOptions& options) {
     enable.push_back(XR_MND_HEADLESS_EXTENSION_NAME);
     features_.headless = true;
   } else {
-    for (const char* needed : {"XR_KHR_opengl_enable", "XR_MNDX_egl_enable"}) {
-      if (!has(offered, needed)) {
-        throw Error(std::string("the OpenXR runtime does not offer ") + needed +
-                    " (the front end renders with OpenGL on an EGL context)");
-      }
-      enable.push_back(needed);
+    if (!has(offered, "XR_KHR_opengl_enable")) {
+      throw Error(
+          "the OpenXR runtime does not offer XR_KHR_opengl_enable (the front end renders with "
+          "OpenGL)");
     }
+    enable.push_back("XR_KHR_opengl_enable");
     features_.opengl = true;
-    features_.egl = true;
+    // EGL where the runtime offers it (no window, no X server); else the Xlib/GLX binding every
+    // Linux OpenGL runtime has (xr/gl_context.h).
+    if (has(offered, "XR_MNDX_egl_enable")) {
+      enable.push_back("XR_MNDX_egl_enable");
+      features_.egl = true;
+    }
   }
   const bool hands = options.hand_tracking && has(offered, XR_EXT_HAND_TRACKING_EXTENSION_NAME);
   const bool gaze = options.eye_gaze && has(offered, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);

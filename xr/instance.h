@@ -1,7 +1,8 @@
 #pragma once
 // The OpenXR instance and the head-mounted system: which extensions the runtime offers and which
-// the front end enables (an OpenGL binding through EGL, or XR_MND_headless; hand tracking and eye
-// gaze where offered), and the system's view configuration. Every failing call throws
+// the front end enables (OpenGL, with XR_MNDX_egl_enable where offered, else the Xlib/GLX binding;
+// or XR_MND_headless; hand tracking and eye gaze where offered), and the system's view
+// configuration. Every failing call throws
 // deixis::Error naming the call, its XrResult (xrResultToString) and where it was made.
 
 #include <openxr/openxr.h>
@@ -39,7 +40,7 @@ struct InstanceOptions {
 // What the instance enabled and the system supports.
 struct Features {
   bool opengl = false;         // XR_KHR_opengl_enable
-  bool egl = false;            // XR_MNDX_egl_enable
+  bool egl = false;            // XR_MNDX_egl_enable (else the Xlib/GLX binding)
   bool headless = false;       // XR_MND_headless
   bool hand_tracking = false;  // extension enabled and the system supports it
   bool eye_gaze = false;       // extension enabled and the system supports it
@@ -54,7 +55,7 @@ struct ViewConfig {
 class Instance {
  public:
   // Creates the instance and gets the head-mounted system. Throws deixis::Error when there is no
-  // runtime, the runtime lacks the graphics binding (or XR_MND_headless when asked for), or any
+  // runtime, the runtime lacks XR_KHR_opengl_enable (or XR_MND_headless when asked for), or any
   // call fails.
   explicit Instance(const InstanceOptions& options);
   ~Instance();
