@@ -31,7 +31,8 @@ std::string header(const Table& t, const std::string& first) {
   std::string s = "| " + first + " | weights |";
   std::string rule = "|---|---|";
   for (const Column& c : t.columns) {
-    s += " " + c.name + (c.unit.empty() ? "" : " (" + c.unit + ")") + " ↓ |";
+    s += " " + c.name + (c.unit.empty() ? "" : " (" + c.unit + ")") +
+         (c.lower_is_better ? " ↓ |" : " |");
     rule += "---:|";
   }
   return s + "\n" + rule + "\n";
@@ -80,6 +81,53 @@ void table_markdown(const Table& t, const std::vector<std::string>& subjects,
   out << "\n";
 }
 
+// The real-motion section: every recording's rows side by side, then each weight set's mean over
+// the recordings when there are several.
+void real_motion_markdown(const RealMotionSection& section, std::ostringstream& out) {
+  out << "# Real motion (BVH)\n\n"
+      << "Free-form motion of real people in the recordings below, with no labelled pointing: "
+         "these figures say how the translator behaves on real movement, not how accurately it "
+         "points (that accuracy is measured on the synthetic test subjects above, or by `deixis "
+         "eval --data`). How each is computed: docs/eval.md#real-motion-bvh.\n\n";
+  for (const std::string& n : section.notes) {
+    out << "- " << n << "\n";
+  }
+  out << "\n";
+  for (const Table& t : section.tables) {
+    out << "## Table " << t.id << ". " << t.title << "\n\n" << header(t, "recording");
+    for (const std::string& recording : section.recordings) {
+      for (const TableRow& r : t.rows) {
+        const auto it = r.per_subject.find(recording);
+        if (it == r.per_subject.end()) {
+          continue;
+        }
+        out << "| " << recording << " | " << (r.weights.empty() ? "—" : r.weights) << " |";
+        for (std::size_t c = 0; c < t.columns.size(); ++c) {
+          out << " " << cell(it->second[c], std::nullopt, t.columns[c].decimals) << " |";
+        }
+        out << "\n";
+      }
+    }
+    for (const TableRow& r : t.rows) {
+      if (section.recordings.size() < 2 || r.per_subject.empty()) {
+        continue;
+      }
+      const auto mean = r.mean(t.columns.size());
+      out << "| mean of " << r.per_subject.size() << " | " << (r.weights.empty() ? "—" : r.weights)
+          << " |";
+      for (std::size_t c = 0; c < t.columns.size(); ++c) {
+        out << " " << cell(mean[c], std::nullopt, t.columns[c].decimals) << " |";
+      }
+      out << "\n";
+    }
+    out << "\n";
+    for (const std::string& n : t.notes) {
+      out << "- " << n << "\n";
+    }
+    out << "\n";
+  }
+}
+
 nlohmann::json optional_json(const std::optional<double>& v) {
   return v && std::isfinite(*v) ? nlohmann::json(*v) : nlohmann::json(nullptr);
 }
@@ -90,6 +138,58 @@ nlohmann::json values_json(const std::vector<std::optional<double>>& values) {
     a.push_back(optional_json(v));
   }
   return a;
+}
+
+// `per`: the key of a row's breakdown ("per_subject", or "per_recording" for real motion).
+nlohmann::json tables_json(const std::vector<Table>& tables, const char* per) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Table& t : tables) {
+    nlohmann::json jt;
+    jt["id"] = t.id;
+    jt["title"] = t.title;
+    jt["notes"] = t.notes;
+    nlohmann::json columns = nlohmann::json::array();
+    for (const Column& c : t.columns) {
+      columns.push_back({{"name", c.name}, {"unit", c.unit}});
+    }
+    jt["columns"] = columns;
+    nlohmann::json rows = nlohmann::json::array();
+    for (const TableRow& r : t.rows) {
+      nlohmann::json jr;
+      jr["label"] = r.label;
+      jr["weights"] = r.weights;
+      jr["note"] = r.note;
+      jr["mean"] = values_json(r.mean(t.columns.size()));
+      jr["spread"] = values_json(r.spread);
+      nlohmann::json breakdown = nlohmann::json::object();
+      for (const auto& [key, values] : r.per_subject) {
+        breakdown[key] = values_json(values);
+      }
+      jr[per] = breakdown;
+      rows.push_back(jr);
+    }
+    jt["rows"] = rows;
+    out.push_back(jt);
+  }
+  return out;
+}
+
+nlohmann::json real_motion_json(const RealMotionSection& section) {
+  nlohmann::json j;
+  j["recordings"] = section.recordings;
+  j["notes"] = section.notes;
+  j["tables"] = tables_json(section.tables, "per_recording");
+  nlohmann::json series = nlohmann::json::array();
+  for (const PerSecondSeries& s : section.per_second) {
+    series.push_back({{"recording", s.recording},
+                      {"weights", s.weights},
+                      {"head_cm", values_json(s.values[0])},
+                      {"head_deg", values_json(s.values[1])},
+                      {"hand_cm", values_json(s.values[2])},
+                      {"hand_deg", values_json(s.values[3])}});
+  }
+  j["following_per_second"] = series;
+  return j;
 }
 
 }  // namespace
@@ -114,6 +214,13 @@ std::vector<std::optional<double>> TableRow::mean(std::size_t columns) const {
 
 std::string markdown(const Report& report) {
   std::ostringstream out;
+  if (report.tables.empty()) {
+    out << "# Deixis evaluation\n\nProduced by `" << report.command << "` in "
+        << number(report.wall_seconds, 1) << " s on " << report.machine
+        << ". Real motion only (--bvh without --data): no synthetic tables.\n\n";
+    real_motion_markdown(report.real_motion, out);
+    return out.str();
+  }
   out << "# Deixis evaluation"
       << (report.quick ? " (--quick: a tiny sample, not the protocol)" : "") << "\n\n"
       << "Produced by `" << report.command << "` on `" << report.data_dir << "` in "
@@ -134,6 +241,9 @@ std::string markdown(const Report& report) {
     out << "## Fig. 5. Impact of missed tracking duration on motion quality\n\n"
         << "![Fig. 5](fig5.png)\n\n";
   }
+  if (!report.real_motion.recordings.empty()) {
+    real_motion_markdown(report.real_motion, out);
+  }
   return out.str();
 }
 
@@ -146,36 +256,7 @@ std::string json(const Report& report) {
   j["machine"] = report.machine;
   j["subjects"] = report.subjects;
   j["notes"] = report.notes;
-  nlohmann::json tables = nlohmann::json::array();
-  for (const Table& t : report.tables) {
-    nlohmann::json jt;
-    jt["id"] = t.id;
-    jt["title"] = t.title;
-    jt["notes"] = t.notes;
-    nlohmann::json columns = nlohmann::json::array();
-    for (const Column& c : t.columns) {
-      columns.push_back({{"name", c.name}, {"unit", c.unit}});
-    }
-    jt["columns"] = columns;
-    nlohmann::json rows = nlohmann::json::array();
-    for (const TableRow& r : t.rows) {
-      nlohmann::json jr;
-      jr["label"] = r.label;
-      jr["weights"] = r.weights;
-      jr["note"] = r.note;
-      jr["mean"] = values_json(r.mean(t.columns.size()));
-      jr["spread"] = values_json(r.spread);
-      nlohmann::json per = nlohmann::json::object();
-      for (const auto& [subject, values] : r.per_subject) {
-        per[subject] = values_json(values);
-      }
-      jr["per_subject"] = per;
-      rows.push_back(jr);
-    }
-    jt["rows"] = rows;
-    tables.push_back(jt);
-  }
-  j["tables"] = tables;
+  j["tables"] = tables_json(report.tables, "per_subject");
   nlohmann::json fig = nlohmann::json::array();
   for (const Figure5Series& s : report.figure5) {
     fig.push_back({{"label", s.label},
@@ -186,6 +267,9 @@ std::string json(const Report& report) {
                    {"MPJAVE_deg_s", s.values[3]}});
   }
   j["figure5"] = fig;
+  if (!report.real_motion.recordings.empty()) {
+    j["real_motion"] = real_motion_json(report.real_motion);
+  }
   return j.dump(2) + "\n";
 }
 

@@ -16,6 +16,7 @@ struct Column {
   std::string name;  // "HE"
   std::string unit;  // "°"
   int decimals = 2;
+  bool lower_is_better = true;  // the header's ↓
 };
 
 struct TableRow {
@@ -45,6 +46,24 @@ struct Figure5Series {
   std::array<std::vector<double>, 4> values;  // MPJPE, MPJRE, MPJLVE, MPJAVE per duration
 };
 
+// One recording's following errors second by second (deixis eval --bvh), for one weight set:
+// head cm, head °, hand cm, hand °; a second without free frames has none.
+struct PerSecondSeries {
+  std::string recording;
+  std::string weights;
+  std::array<std::vector<std::optional<double>>, 4> values;
+};
+
+// The real-motion section (deixis eval --bvh; eval/real_motion_eval.h): tables of its own, never
+// mixed with the synthetic ones. Each row is a weight set; its per_subject map is keyed by
+// recording, and the Markdown shows every recording's rows side by side.
+struct RealMotionSection {
+  std::vector<std::string> recordings;  // "01_01.bvh"
+  std::vector<Table> tables;
+  std::vector<PerSecondSeries> per_second;
+  std::vector<std::string> notes;
+};
+
 struct Report {
   std::string command;
   std::string data_dir;
@@ -55,6 +74,7 @@ struct Report {
   std::vector<Table> tables;
   std::vector<Figure5Series> figure5;
   std::vector<std::string> notes;
+  RealMotionSection real_motion;  // empty unless --bvh
 };
 
 std::string markdown(const Report& report);
