@@ -698,8 +698,9 @@ void add_eval(CLI::App& program, const Invocation& invocation, std::vector<Runne
       "eval",
       "The paper's Tables I-IV and Fig. 5 on the held-out test subjects: MPE and SS (MPNet), "
       "DIP, DR and FMD (the chained networks), robustness to missed tracking, jitter and noise; "
-      "every architecture, the copy-paste baseline. Writes tables.md, results.json and fig5.png; "
-      "progress on stderr; exit 2 for bad flags or files");
+      "every architecture, the copy-paste baseline. With --bvh: the translator on recordings of "
+      "real motion, a section of its own. Writes tables.md, results.json and fig5.png; progress "
+      "on stderr; exit 2 for bad flags or files");
   // As CLI::ExistingDirectory (same "DIR" in the help), but a missing directory's message says
   // how to make the test sets.
   const CLI::Validator data_dir(
@@ -709,7 +710,8 @@ void add_eval(CLI::App& program, const Invocation& invocation, std::vector<Runne
       "DIR");
   cmd->add_option("--data", eval->data_dir, "Directory with test_<subject>.safetensors")
       ->capture_default_str()
-      ->check(data_dir);
+      ->check(data_dir)
+      ->each([eval](const std::string&) { eval->data_given = true; });
   cmd->add_option(
       "--weights", eval->weights,
       "A weight set LABEL=DIR (DIR holds right/ and left/ with the authors' file names); "
@@ -729,6 +731,13 @@ void add_eval(CLI::App& program, const Invocation& invocation, std::vector<Runne
       ->capture_default_str();
   cmd->add_flag("--quick", eval->quick,
                 "A tiny sample (2 sequences per category and subject): seconds, for CI");
+  cmd->add_option("--bvh", eval->bvh,
+                  "BVH recordings of real motion (several after one --bvh, or repeated): the "
+                  "translator of each weight set over each, in a room of targets around the "
+                  "person, in a section 'Real motion (BVH)' of its own (docs/eval.md). Alone it "
+                  "needs no test sets; with --data the synthetic tables run too")
+      ->check(CLI::ExistingFile)
+      ->type_name("FILE");
   auto live = std::make_shared<LiveRoomsOptions>();
   live->weights_dir = default_weights_dir();
   live->avatar = demo_site("a.json").parent_path().parent_path() / "avatars/default.glb";

@@ -131,6 +131,10 @@ struct EvalOptions {
   int threads = 0;  // units of work at a time; 0: one per core
   std::string command_line;
   std::string program = "deixis";  // as started (argv[0]), in the command a message suggests
+  // Recordings of real motion (--bvh): measured in a section of their own; without --data given
+  // as well, nothing else runs, so no synthetic test set is needed.
+  std::vector<std::filesystem::path> bvh;
+  bool data_given = false;  // --data was on the command line
 };
 int run_eval(const EvalOptions& options);
 

@@ -1,6 +1,7 @@
 // `deixis eval`: every row of the paper's Tables I–IV and Fig. 5 on the held-out subjects
-// (eval/evaluation.h); this file resolves the weight sets, runs it and writes tables.md,
-// results.json and fig5.png. Exit codes: 0 done, 2 bad flags or files.
+// (eval/evaluation.h), and with --bvh the translator on recordings of real motion in a section of
+// its own (eval/real_motion_eval.h); this file resolves the weight sets, runs them and writes
+// tables.md, results.json and fig5.png. Exit codes: 0 done, 2 bad flags or files.
 
 #include <algorithm>
 #include <cctype>
@@ -8,11 +9,14 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <optional>
 
 #include "app/commands.h"
 #include "core/error.h"
+#include "core/io/machine.h"
 #include "eval/evaluation.h"
 #include "eval/figure.h"
+#include "eval/real_motion_eval.h"
 
 namespace deixis::app {
 
@@ -104,26 +108,57 @@ std::string eval_data_problem(const fs::path& dir, const std::string& program) {
          "\nor give --data a directory that has them (docs/eval.md)";
 }
 
+namespace {
+
+void progress_line(const std::string& line) {
+  std::fprintf(stderr, "deixis eval: %s\n", line.c_str());
+}
+
+// The synthetic protocol; nullopt (after saying why) when its test sets are missing.
+std::optional<eval::Report> synthetic_report(const EvalOptions& o,
+                                             const std::vector<eval::WeightSet>& sets) {
+  eval::EvalOptions options;
+  options.data_dir = o.data_dir;
+  options.subjects = o.subjects;
+  options.weights = sets;
+  if (const std::string problem = eval_data_problem(o.data_dir, o.program); !problem.empty()) {
+    std::fprintf(stderr, "deixis eval: %s\n", problem.c_str());
+    return std::nullopt;
+  }
+  options.encoder_dir = o.encoder_dir;
+  options.quick = o.quick;
+  options.threads = o.threads;
+  options.sampling = o.quick ? eval::quick_sampling() : eval::full_sampling();
+  options.command = o.command_line;
+  options.progress = progress_line;
+  return eval::evaluate(options);
+}
+
+}  // namespace
+
 int run_eval(const EvalOptions& o) {
   try {
-    eval::EvalOptions options;
-    options.data_dir = o.data_dir;
-    options.subjects = o.subjects;
-    options.weights = weight_sets(o);
-    if (const std::string problem = eval_data_problem(o.data_dir, o.program); !problem.empty()) {
-      std::fprintf(stderr, "deixis eval: %s\n", problem.c_str());
-      return 2;
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<eval::WeightSet> sets = weight_sets(o);
+    // --bvh alone measures only the recordings (decision 77): no synthetic test set needed.
+    const bool synthetic = o.bvh.empty() || o.data_given;
+    eval::Report report;
+    if (synthetic) {
+      std::optional<eval::Report> r = synthetic_report(o, sets);
+      if (!r) {
+        return 2;
+      }
+      report = std::move(*r);
+    } else {
+      report.command = o.command_line;
+      report.machine = machine_description();
     }
-    options.encoder_dir = o.encoder_dir;
-    options.quick = o.quick;
-    options.threads = o.threads;
-    options.sampling = o.quick ? eval::quick_sampling() : eval::full_sampling();
-    options.command = o.command_line;
-    options.progress = [](const std::string& line) {
-      std::fprintf(stderr, "deixis eval: %s\n", line.c_str());
-    };
+    if (!o.bvh.empty()) {
+      report.real_motion = eval::evaluate_real_motion({o.bvh, sets, progress_line});
+      report.wall_seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
     fs::create_directories(o.out_dir);
-    const eval::Report report = eval::evaluate(options);
     write_text(o.out_dir / "tables.md", eval::markdown(report));
     write_text(o.out_dir / "results.json", eval::json(report));
     if (!report.figure5.empty()) {

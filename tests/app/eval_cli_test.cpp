@@ -2,7 +2,8 @@
 // `deixis capture generate`, a quick evaluation that exits 0 and writes tables.md, results.json and
 // fig5.png with the tables on standard output; data of the training subject refused with exit 2
 // naming the file; missing test sets refused with exit 2 naming the directory and the command
-// that makes them; bad flags exit 2 naming the flag.
+// that makes them; bad flags exit 2 naming the flag; --bvh alone measures Debian's recordings in a
+// section of its own without any test set, and a bad recording exits 2 naming file:line.
 
 #include <gtest/gtest.h>
 
@@ -120,6 +121,63 @@ TEST(EvalCli, BadFlagsExitTwoNamingThem) {
       {{"eval", "--frobnicate"}, "--frobnicate"},
   };
   expect_refused(cases);
+}
+
+const fs::path kDebianBvh = "/usr/share/assimp/models/BVH";
+
+TEST(EvalCli, BvhAloneMeasuresRealMotionWithoutTestSets) {
+  const fs::path file = kDebianBvh / "Boxing_Toes.bvh";
+  if (!fs::exists(file)) {
+    GTEST_SKIP() << "no " << file << " (Debian's assimp-testmodels; tools/install-deps)";
+  }
+  deixis::testing::ScratchDir dir;
+  const fs::path out = dir.path() / "eval";
+  // The default --data (out/data) need not exist: nothing synthetic runs.
+  Deixis eval({"eval", "--bvh", file.string(), "--out", out.string(), "--weights",
+               "authors=" + weights_dir(), "--weights",
+               "deixis=" + (deixis::testing::source_dir() / "assets/weights").string()});
+  ASSERT_EQ(eval.wait(), 0) << eval.err();
+  EXPECT_NE(eval.out().find("# Real motion (BVH)"), std::string::npos) << eval.out();
+  EXPECT_EQ(eval.out().find("Table I."), std::string::npos) << "no synthetic table";
+  EXPECT_FALSE(fs::exists(out / "fig5.png"));
+  const nlohmann::json results = nlohmann::json::parse(std::ifstream(out / "results.json"));
+  const nlohmann::json& real = results["real_motion"];
+  EXPECT_EQ(real["recordings"], nlohmann::json({"Boxing_Toes.bvh"}));
+  EXPECT_TRUE(results["tables"].empty());
+  ASSERT_EQ(real["tables"].size(), 4u);
+  // (c): only our set is compared with the authors', and its differences are in [0, 1].
+  const nlohmann::json& agreement = real["tables"][3]["rows"];
+  ASSERT_EQ(agreement.size(), 1u);
+  EXPECT_EQ(agreement[0]["weights"], "deixis");
+  for (const nlohmann::json& d : agreement[0]["per_recording"]["Boxing_Toes.bvh"]) {
+    ASSERT_TRUE(d.is_number());
+    EXPECT_GE(d.get<double>(), 0.0);
+    EXPECT_LE(d.get<double>(), 1.0);
+  }
+  // (a) second by second for both sets: one value per second of the 30.7 s recording.
+  ASSERT_EQ(real["following_per_second"].size(), 2u);
+  EXPECT_EQ(real["following_per_second"][0]["hand_cm"].size(), 31u);
+}
+
+TEST(EvalCli, ABadBvhFileExitsTwoNamingFileAndLine) {
+  deixis::testing::ScratchDir dir;
+  const fs::path file = dir.path() / "bad.bvh";
+  std::ofstream(file) << "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 zero\n}\n";
+  Deixis eval({"eval", "--bvh", file.string(), "--out", (dir.path() / "eval").string(), "--weights",
+               "authors=" + weights_dir()});
+  EXPECT_EQ(eval.wait(), 2);
+  EXPECT_NE(eval.err().find(file.string() + ":4:"), std::string::npos) << eval.err();
+  EXPECT_FALSE(fs::exists(dir.path() / "eval/results.json"));
+  Deixis missing({"eval", "--bvh", (dir.path() / "none.bvh").string()});
+  EXPECT_EQ(missing.wait(), 2);
+  EXPECT_NE(missing.err().find("--bvh"), std::string::npos) << missing.err();
+}
+
+TEST(EvalCli, HelpMentionsBvh) {
+  Deixis help({"eval", "--help"});
+  ASSERT_EQ(help.wait(), 0) << help.err();
+  EXPECT_NE(help.out().find("--bvh"), std::string::npos) << help.out();
+  EXPECT_NE(help.out().find("Real motion (BVH)"), std::string::npos) << help.out();
 }
 
 }  // namespace
