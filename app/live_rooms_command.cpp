@@ -93,12 +93,23 @@ void collect_completions(const eval::RoomPair& pair, std::size_t observer, const
     live.time_s = c.at("time_s").get<double>();
     const json& avatar = c.at("avatar");
     const json& copy = c.at("copy");
+    const json none = json::object();  // a site too old to report the stages
+    const json& network = c.contains("network") ? c.at("network") : none;
+    const json& person = c.contains("person") ? c.at("person") : none;
     live.avatar_he = number_or_nan(avatar, "horizontal_deg");
     live.avatar_ve = number_or_nan(avatar, "vertical_deg");
     live.avatar_cm = number_or_nan(avatar, "touch_cm");
     live.copy_he = number_or_nan(copy, "horizontal_deg");
     live.copy_ve = number_or_nan(copy, "vertical_deg");
     live.copy_cm = number_or_nan(copy, "touch_cm");
+    live.network_he = number_or_nan(network, "horizontal_deg");
+    live.network_ve = number_or_nan(network, "vertical_deg");
+    live.network_cm = number_or_nan(network, "touch_cm");
+    live.person_he = number_or_nan(person, "horizontal_deg");
+    live.person_ve = number_or_nan(person, "vertical_deg");
+    live.person_cm = number_or_nan(person, "touch_cm");
+    live.ik_fingertip_cm = number_or_nan(c, "ik_fingertip_cm");
+    live.hold_s = number_or_nan(c, "hold_s");
     for (const eval::RoomObject& o : room.objects) {
       if (o.id == live.target) {
         live.geometry = eval::geometry_from_avatar(room, o.position);

@@ -1,5 +1,7 @@
 #include "eval/deictic_observer.h"
 
+#include <limits>
+
 #include "eval/metrics.h"
 #include "gesture/features.h"
 
@@ -48,6 +50,20 @@ bool away_from_rest(const TrackingFrame& frame, const presence::PoseCopy& copy) 
 
 }  // namespace
 
+AvatarChain chain_of(const presence::RemoteAvatar& avatar, const Pose& T_world_origin) {
+  return {avatar.eye_midpoint(),
+          avatar.index_fingertip(),
+          T_world_origin,
+          true,
+          avatar.frame().deictic.T_world_head.translation,
+          avatar.frame().deictic.index_tip};
+}
+
+DeicticError unmeasured() {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  return {nan, nan, nan};
+}
+
 DeicticObserver::DeicticObserver(std::size_t capacity) {
   samples_.reserve(capacity);
 }
@@ -83,9 +99,18 @@ void DeicticObserver::observe(const TrackingFrame& frame, std::uint32_t sequence
     }
     phase_ = Phase::kMoving;
   } else if (speed < kHoldingSpeed && phase_ != Phase::kWaiting && away_from_rest(frame, copy)) {
+    if (phase_ != Phase::kHolding) {
+      hold_start_ = time;
+    }
     phase_ = Phase::kHolding;
     candidate_ =
         measure(frame, sequence, time, avatar, copy, *object, touches(frame, hand, remote_room));
+    // The person's own gesture against their copy of the target, in their room.
+    const TargetObject* theirs = remote_room ? remote_room->find(target_) : nullptr;
+    candidate_.person = theirs == nullptr
+                            ? unmeasured()
+                            : error_of(frame.T_world_head.translation, tip,
+                                       copy.user().T_world_root, *theirs, candidate_.touching);
   }
 }
 
@@ -124,6 +149,14 @@ DeicticSample DeicticObserver::measure(const TrackingFrame& frame, std::uint32_t
   s.copy =
       error_of(copy.point(frame.T_world_head.translation), copy.point(frame.index_tip[index(hand)]),
                avatar.T_world_origin, object, touching);
+  s.network = avatar.has_network ? error_of(avatar.network_head, avatar.network_fingertip,
+                                            avatar.T_world_origin, object, touching)
+                                 : unmeasured();
+  s.ik_fingertip_cm =
+      avatar.has_network
+          ? 100.0 * static_cast<double>((avatar.fingertip - avatar.network_fingertip).norm())
+          : std::numeric_limits<double>::quiet_NaN();
+  s.hold_s = time - hold_start_;
   return s;
 }
 

@@ -23,6 +23,7 @@
 
 #include "core/target_map.h"
 #include "presence/pose_copy.h"
+#include "presence/remote_avatar.h"
 
 namespace deixis::eval {
 
@@ -32,6 +33,9 @@ struct DeicticError {
   double touch_cm = 0.0;  // touching
 };
 
+// Not measured (NaN in every field): e.g. the networks' chain where a caller gave none.
+DeicticError unmeasured();
+
 struct DeicticSample {
   double time = 0.0;           // s, this site's clock since streaming began
   std::uint32_t sequence = 0;  // the frame's sequence number
@@ -39,6 +43,15 @@ struct DeicticSample {
   bool touching = false;
   DeicticError avatar;  // the translated avatar after IK
   DeicticError copy;    // the pose copied unchanged
+  // Where an avatar's error comes from (docs/live-rooms.md, "Where the error comes from"): the
+  // networks' own end-effectors before IK (H and the fingertip the translator gave IK), measured
+  // the same way; how far IK moved the fingertip off them (cm); the person's own gesture in
+  // their room against their copy of the target (their root frame); and how long the hold had
+  // lasted at its last frame (s, this site's clock).
+  DeicticError network;
+  double ik_fingertip_cm = 0.0;
+  DeicticError person;
+  double hold_s = 0.0;
 };
 
 // What the avatar shows this frame: its eye midpoint H and deictic fingertip (world, after IK),
@@ -47,7 +60,15 @@ struct AvatarChain {
   Vec3 eye_midpoint = Vec3::Zero();
   Vec3 fingertip = Vec3::Zero();
   Pose T_world_origin;
+  // The networks' end-effectors this tick, before IK (the translator's H and fingertip,
+  // presence::RemoteAvatar::frame()); without them the sample's `network` is unmeasured.
+  bool has_network = false;
+  Vec3 network_head = Vec3::Zero();
+  Vec3 network_fingertip = Vec3::Zero();
 };
+
+// A translated avatar's chain this tick: after IK, and the networks' before it.
+AvatarChain chain_of(const presence::RemoteAvatar& avatar, const Pose& T_world_origin);
 
 class DeicticObserver {
  public:
@@ -81,6 +102,7 @@ class DeicticObserver {
   Vec3 previous_tip_ = Vec3::Zero();
   double previous_sender_time_ = 0.0;  // s, the previous frame's TrackingFrame::time
   DeicticSample candidate_;
+  double hold_start_ = 0.0;  // s, when the current hold began
 };
 
 }  // namespace deixis::eval

@@ -61,6 +61,28 @@ std::vector<LiveGroup> grouped(const std::vector<LiveCompletion>& completions,
   return out;
 }
 
+constexpr std::size_t kWorstListed = 10;
+
+double worse_angle(const LiveCompletion& c) {
+  return std::max(c.avatar_he, c.avatar_ve);
+}
+
+LiveStages stages_of(const std::vector<LiveCompletion>& completions) {
+  std::vector<double> v[8];
+  for (const LiveCompletion& c : completions) {
+    if (c.touch) {
+      continue;
+    }
+    const double values[8] = {c.person_he, c.person_ve, c.network_he,      c.network_ve,
+                              c.avatar_he, c.avatar_ve, c.ik_fingertip_cm, c.hold_s};
+    for (int k = 0; k < 8; ++k) {
+      v[k].push_back(values[k]);
+    }
+  }
+  return {distribution(v[0]), distribution(v[1]), distribution(v[2]), distribution(v[3]),
+          distribution(v[4]), distribution(v[5]), distribution(v[6]), distribution(v[7])};
+}
+
 std::string distance_bin(const LiveCompletion& c) {
   const float d = c.geometry.distance;
   return d < 1.5f ? "< 1.5 m" : d < 2.5f ? "1.5–2.5 m" : d < 3.5f ? "2.5–3.5 m" : "≥ 3.5 m";
@@ -76,6 +98,12 @@ std::string azimuth_bin(const LiveCompletion& c) {
 
 json number(double v) {
   return std::isfinite(v) ? json(v) : json(nullptr);
+}
+
+// One stage's error at a completion: angles for a point, the distance for a touch.
+json error_json(bool touch, double he, double ve, double cm) {
+  return touch ? json{{"touch_cm", number(cm)}}
+               : json{{"he_deg", number(he)}, {"ve_deg", number(ve)}};
 }
 
 json distribution_json(const Distribution& d) {
@@ -235,6 +263,16 @@ LiveSummary summarize(const std::vector<LiveCompletion>& completions,
       grouped(completions, {"below −15°", "−15–0°", "0–15°", "above 15°"}, elevation_bin, true);
   s.by_azimuth =
       grouped(completions, {"0–30°", "30–60°", "60–90°", "≥ 90° (behind)"}, azimuth_bin, true);
+  s.stages = stages_of(completions);
+  for (const LiveCompletion& c : completions) {
+    if (!c.touch && std::isfinite(worse_angle(c))) {
+      s.worst.push_back(&c);
+    }
+  }
+  std::sort(s.worst.begin(), s.worst.end(), [](const LiveCompletion* a, const LiveCompletion* b) {
+    return worse_angle(*a) > worse_angle(*b);
+  });
+  s.worst.resize(std::min(s.worst.size(), kWorstListed));
   for (const TouchTally& t : touches) {
     s.touches_performed += t.performed;
     s.touches_observed += std::min(t.observed, t.performed);
@@ -263,6 +301,41 @@ std::string live_rooms_markdown(const LiveSummary& s, const std::string& command
   pointing_table(md, s.by_distance, "horizontal distance");
   pointing_table(md, s.by_elevation, "elevation from its shoulder (1.4 m)");
   pointing_table(md, s.by_azimuth, "azimuth from its facing");
+  const LiveStages& st = s.stages;
+  md << "### Where the error comes from\n\n"
+     << "Each pointing completion measured at each stage of the chain, the same way: the "
+        "person's own gesture in their room against their copy of the target; the networks' "
+        "end-effectors (H and the fingertip the translator gave IK) in this room; the avatar "
+        "after IK. IK's fingertip shift is how far IK moved the fingertip off the networks' (cm); "
+        "the hold is how long the person's hand had been still at the completion (s).\n\n"
+     << "| stage | HE mean | p90 | worst | VE mean | p90 | worst |\n"
+        "|---|---:|---:|---:|---:|---:|---:|\n";
+  const auto stage = [&](const char* name, const Distribution& he, const Distribution& ve) {
+    md << "| " << name << " | " << cell(he.mean) << " | " << cell(he.p90) << " | " << cell(he.worst)
+       << " | " << cell(ve.mean) << " | " << cell(ve.p90) << " | " << cell(ve.worst) << " |\n";
+  };
+  stage("the person, in their room", st.person_he, st.person_ve);
+  stage("the networks, before IK", st.network_he, st.network_ve);
+  stage("the avatar, after IK", st.avatar_he, st.avatar_ve);
+  md << "\nIK's fingertip shift: mean " << cell(st.ik_fingertip_cm.mean) << " cm, worst "
+     << cell(st.ik_fingertip_cm.worst) << " cm. Hold at completion: median "
+     << cell(st.hold_s.median) << " s.\n\n"
+     << "The worst pointing completions (by the larger of HE and VE):\n\n"
+     << "| pair | seen in | subject | target | distance m | elevation ° | azimuth ° | person "
+        "HE/VE | networks HE/VE | avatar HE/VE | IK shift cm | hold s |\n"
+        "|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const LiveCompletion* c : s.worst) {
+    char row[320];
+    std::snprintf(row, sizeof row, "| %d | %s | %s | %d | %.2f | %.0f | %.0f | ", c->pair,
+                  c->observer.c_str(), c->subject.c_str(), c->target,
+                  static_cast<double>(c->geometry.distance),
+                  static_cast<double>(c->geometry.elevation_deg),
+                  static_cast<double>(c->geometry.azimuth_deg));
+    md << row << cell(c->person_he) << " / " << cell(c->person_ve) << " | " << cell(c->network_he)
+       << " / " << cell(c->network_ve) << " | " << cell(c->avatar_he) << " / " << cell(c->avatar_ve)
+       << " | " << cell(c->ik_fingertip_cm) << " | " << cell(c->hold_s) << " |\n";
+  }
+  md << '\n';
   return md.str();
 }
 
@@ -271,21 +344,21 @@ void write_live_rooms_json(const LiveSummary& s, const std::vector<LiveCompletio
                            const std::filesystem::path& path) {
   json list = json::array();
   for (const LiveCompletion& c : completions) {
-    list.push_back(
-        {{"pair", c.pair},
-         {"observer", c.observer},
-         {"subject", c.subject},
-         {"target", c.target},
-         {"kind", c.touch ? "touch" : "point"},
-         {"time_s", c.time_s},
-         {"avatar", c.touch
-                        ? json{{"touch_cm", number(c.avatar_cm)}}
-                        : json{{"he_deg", number(c.avatar_he)}, {"ve_deg", number(c.avatar_ve)}}},
-         {"copy", c.touch ? json{{"touch_cm", number(c.copy_cm)}}
-                          : json{{"he_deg", number(c.copy_he)}, {"ve_deg", number(c.copy_ve)}}},
-         {"distance_m", c.geometry.distance},
-         {"elevation_deg", c.geometry.elevation_deg},
-         {"azimuth_deg", c.geometry.azimuth_deg}});
+    list.push_back({{"pair", c.pair},
+                    {"observer", c.observer},
+                    {"subject", c.subject},
+                    {"target", c.target},
+                    {"kind", c.touch ? "touch" : "point"},
+                    {"time_s", c.time_s},
+                    {"avatar", error_json(c.touch, c.avatar_he, c.avatar_ve, c.avatar_cm)},
+                    {"copy", error_json(c.touch, c.copy_he, c.copy_ve, c.copy_cm)},
+                    {"network", error_json(c.touch, c.network_he, c.network_ve, c.network_cm)},
+                    {"ik_fingertip_cm", number(c.ik_fingertip_cm)},
+                    {"person", error_json(c.touch, c.person_he, c.person_ve, c.person_cm)},
+                    {"hold_s", number(c.hold_s)},
+                    {"distance_m", c.geometry.distance},
+                    {"elevation_deg", c.geometry.elevation_deg},
+                    {"azimuth_deg", c.geometry.azimuth_deg}});
   }
   json tallies = json::array();
   for (const TouchTally& t : touches) {
@@ -297,6 +370,15 @@ void write_live_rooms_json(const LiveSummary& s, const std::vector<LiveCompletio
   }
   const json out = {{"pairs", s.pairs},
                     {"all", group_json(s.all)},
+                    {"stages",
+                     {{"person_he_deg", distribution_json(s.stages.person_he)},
+                      {"person_ve_deg", distribution_json(s.stages.person_ve)},
+                      {"network_he_deg", distribution_json(s.stages.network_he)},
+                      {"network_ve_deg", distribution_json(s.stages.network_ve)},
+                      {"avatar_he_deg", distribution_json(s.stages.avatar_he)},
+                      {"avatar_ve_deg", distribution_json(s.stages.avatar_ve)},
+                      {"ik_fingertip_cm", distribution_json(s.stages.ik_fingertip_cm)},
+                      {"hold_s", distribution_json(s.stages.hold_s)}}},
                     {"by_subject", groups_json(s.by_subject)},
                     {"by_distance", groups_json(s.by_distance)},
                     {"by_elevation", groups_json(s.by_elevation)},

@@ -27,6 +27,13 @@ struct LiveCompletion {
   double avatar_he = 0.0, avatar_ve = 0.0, avatar_cm = 0.0;
   double copy_he = 0.0, copy_ve = 0.0, copy_cm = 0.0;
   TargetGeometry geometry;  // the target in the observer's room, from the avatar's spot
+  // Where the error comes from (eval/deictic_observer.h, DeicticSample): the networks' own
+  // end-effectors before IK, how far IK moved the fingertip (cm), the person's own gesture in
+  // their room, and how long the hold had lasted (s). NaN where the site did not report them.
+  double network_he = 0.0, network_ve = 0.0, network_cm = 0.0;
+  double ik_fingertip_cm = 0.0;
+  double person_he = 0.0, person_ve = 0.0, person_cm = 0.0;
+  double hold_s = 0.0;
 };
 
 // Touches one person's script completed, and how many of them the other site observed.
@@ -53,9 +60,18 @@ struct LiveGroup {
   Distribution copy_he, copy_ve, copy_touch_cm;
 };
 
+// The stages of the pointing chain over a group of completions: the person's own gesture, the
+// networks' end-effectors, the avatar after IK (means of HE and VE), and IK's fingertip shift.
+struct LiveStages {
+  Distribution person_he, person_ve, network_he, network_ve, avatar_he, avatar_ve;
+  Distribution ik_fingertip_cm, hold_s;
+};
+
 struct LiveSummary {
   int pairs = 0;
   LiveGroup all;
+  LiveStages stages;                         // every pointing completion
+  std::vector<const LiveCompletion*> worst;  // the worst pointing completions, worst first
   std::vector<LiveGroup> by_subject;
   std::vector<LiveGroup> by_distance;   // pointing targets' horizontal distance from the avatar
   std::vector<LiveGroup> by_elevation;  // above or below the avatar's shoulder
@@ -64,6 +80,7 @@ struct LiveSummary {
   int touches_observed = 0;
 };
 
+// `worst` points into `completions`, which must outlive the summary.
 LiveSummary summarize(const std::vector<LiveCompletion>& completions,
                       const std::vector<TouchTally>& touches, int pairs);
 

@@ -125,7 +125,11 @@ json completions_json(const std::vector<eval::DeicticSample>& samples) {
                    {"target", s.target},
                    {"kind", s.touching ? "touch" : "point"},
                    {"avatar", error_json(s.avatar, s.touching)},
-                   {"copy", error_json(s.copy, s.touching)}});
+                   {"copy", error_json(s.copy, s.touching)},
+                   {"network", error_json(s.network, s.touching)},
+                   {"ik_fingertip_cm", number(s.ik_fingertip_cm)},
+                   {"person", error_json(s.person, s.touching)},
+                   {"hold_s", number(s.hold_s)}});
   }
   return out;
 }

@@ -11,6 +11,9 @@
 #include <cmath>
 #include <vector>
 
+#include "core/math/angles.h"
+#include "eval/metrics.h"
+
 namespace deixis::eval {
 namespace {
 
@@ -144,6 +147,51 @@ TEST(DeicticObserver, SamplesBeyondItsCapacityAreCountedAndDropped) {
   }
   EXPECT_EQ(watch.observer.samples().size(), 1u);
   EXPECT_EQ(watch.observer.dropped(), 2u);
+}
+
+// Where the error comes from: the networks' end-effectors (given with the chain) measured the
+// same way as the avatar's, how far IK moved the fingertip, the person's own gesture in their
+// room, and how long the hold lasted; without the networks' chain those are unmeasured.
+TEST(DeicticObserver, TheStagesOfTheChainAreMeasuredAtTheCompletion) {
+  Watch watch(8);
+  // The networks' fingertip 10° to the side of the cup, which IK then put on the line.
+  const Vec3 eyes = watch.chain.eye_midpoint;
+  const Vec3 to_cup = watch.scene.room.objects[0].position - eyes;
+  const Eigen::AngleAxisf turn(10.0f * kRadPerDeg, Vec3::UnitY());
+  watch.chain.has_network = true;
+  watch.chain.network_head = eyes;
+  watch.chain.network_fingertip = eyes + 0.6f * (turn * to_cup).normalized();
+  for (int k = 0; k <= 28; ++k) {
+    watch.play(k, reach_hold_lower_z(k), k * kPeriod, k < 28 ? kCup : kNoTarget);
+  }
+  ASSERT_EQ(watch.observer.samples().size(), 1u);
+  const DeicticSample& s = watch.observer.samples()[0];
+  EXPECT_NEAR(s.avatar.horizontal_deg, 0.0, 0.01);
+  EXPECT_NEAR(s.network.horizontal_deg, 10.0, 0.05);
+  EXPECT_NEAR(s.network.vertical_deg, 0.0, 0.05);
+  EXPECT_NEAR(
+      s.ik_fingertip_cm,
+      100.0 * static_cast<double>((watch.chain.fingertip - watch.chain.network_fingertip).norm()),
+      1e-4);
+  // The person's own gesture: their eyes (the frame's head, at their root) through their
+  // fingertip at frame 21, against their room's cup.
+  const TrackingFrame last = frame_at(21, reach_hold_lower_z(21));
+  const PointingError own =
+      pointing_error({last.T_world_head.translation, last.index_tip[index(Hand::kRight)]},
+                     watch.scene.room.objects[0].position);
+  EXPECT_NEAR(s.person.horizontal_deg, own.horizontal_deg, 1e-4);
+  EXPECT_NEAR(s.person.vertical_deg, own.vertical_deg, 1e-4);
+  EXPECT_GT(s.person.horizontal_deg, 1.0);
+  // Still from frame 13 to frame 21.
+  EXPECT_NEAR(s.hold_s, 8 * kPeriod, 1e-9);
+
+  Watch plain(8);  // no networks' chain given
+  for (int k = 0; k <= 28; ++k) {
+    plain.play(k, reach_hold_lower_z(k), k * kPeriod, k < 28 ? kCup : kNoTarget);
+  }
+  ASSERT_EQ(plain.observer.samples().size(), 1u);
+  EXPECT_TRUE(std::isnan(plain.observer.samples()[0].network.horizontal_deg));
+  EXPECT_TRUE(std::isnan(plain.observer.samples()[0].ik_fingertip_cm));
 }
 
 }  // namespace
