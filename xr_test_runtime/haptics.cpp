@@ -35,6 +35,11 @@ XrResult find_output(Runtime& rt, XrSession session, const XrHapticActionInfo* i
   return XR_SUCCESS;
 }
 
+// The record lists misuse of a valid action; bad handles and structures are the layer's to report.
+XrResult refused(Runtime& rt, const char* call, XrResult r) {
+  return r == XR_ERROR_HANDLE_INVALID || r == XR_ERROR_VALIDATION_FAILURE ? r : rt.refuse(call, r);
+}
+
 void record(Runtime& rt, const ActionObject& a, XrPath subaction, RecordedHaptic h) {
   if (rt.record.haptics.size() >= Record::kMaxHaptics) {
     ++rt.record.haptics_dropped;
@@ -59,9 +64,7 @@ XrResult XRAPI_CALL ApplyHapticFeedback(XrSession session, const XrHapticActionI
   std::lock_guard lock(rt.mutex);
   const ActionObject* a = nullptr;
   if (const XrResult r = find_output(rt, session, info, a); r != XR_SUCCESS) {
-    return r == XR_ERROR_HANDLE_INVALID || r == XR_ERROR_VALIDATION_FAILURE
-               ? r
-               : rt.refuse("xrApplyHapticFeedback", r);
+    return refused(rt, "xrApplyHapticFeedback", r);
   }
   if (haptic == nullptr || haptic->type != XR_TYPE_HAPTIC_VIBRATION) {
     return XR_ERROR_VALIDATION_FAILURE;
@@ -83,9 +86,7 @@ XrResult XRAPI_CALL StopHapticFeedback(XrSession session, const XrHapticActionIn
   std::lock_guard lock(rt.mutex);
   const ActionObject* a = nullptr;
   if (const XrResult r = find_output(rt, session, info, a); r != XR_SUCCESS) {
-    return r == XR_ERROR_HANDLE_INVALID || r == XR_ERROR_VALIDATION_FAILURE
-               ? r
-               : rt.refuse("xrStopHapticFeedback", r);
+    return refused(rt, "xrStopHapticFeedback", r);
   }
   if (rt.session_state.state != XR_SESSION_STATE_FOCUSED) {
     return XR_SESSION_NOT_FOCUSED;

@@ -45,24 +45,6 @@ bool offered(const char* name) {
   return false;
 }
 
-template <typename T>
-XrResult two_call(uint32_t capacity, uint32_t* count, T* out, const T* values, uint32_t n) {
-  if (count == nullptr) {
-    return XR_ERROR_VALIDATION_FAILURE;
-  }
-  *count = n;
-  if (capacity == 0) {
-    return XR_SUCCESS;
-  }
-  if (capacity < n || out == nullptr) {
-    return XR_ERROR_SIZE_INSUFFICIENT;
-  }
-  for (uint32_t i = 0; i < n; ++i) {
-    out[i] = values[i];
-  }
-  return XR_SUCCESS;
-}
-
 bool valid_instance(XrInstance instance) {
   const Runtime& rt = state();
   return rt.instance_live && from_handle(instance) == rt.instance;

@@ -28,22 +28,6 @@ std::optional<TopLevel> top_level_of(std::string_view path) {
   return std::nullopt;
 }
 
-template <typename T>
-XrResult two_call(uint32_t capacity, uint32_t* count, T* out, const T* values, uint32_t n) {
-  if (count == nullptr) {
-    return XR_ERROR_VALIDATION_FAILURE;
-  }
-  *count = n;
-  if (capacity == 0) {
-    return XR_SUCCESS;
-  }
-  if (capacity < n || out == nullptr) {
-    return XR_ERROR_SIZE_INSUFFICIENT;
-  }
-  std::copy(values, values + n, out);
-  return XR_SUCCESS;
-}
-
 }  // namespace
 
 XrResult XRAPI_CALL GetCurrentInteractionProfile(XrSession session, XrPath top_level,

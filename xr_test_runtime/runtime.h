@@ -158,6 +158,25 @@ std::uint64_t from_handle(H handle) {
 
 const char* result_name(XrResult result);
 
+// The spec's two-call idiom: the count always; the values when `capacity` holds them.
+template <typename T>
+XrResult two_call(uint32_t capacity, uint32_t* count, T* out, const T* values, uint32_t n) {
+  if (count == nullptr) {
+    return XR_ERROR_VALIDATION_FAILURE;
+  }
+  *count = n;
+  if (capacity == 0) {
+    return XR_SUCCESS;
+  }
+  if (capacity < n || out == nullptr) {
+    return XR_ERROR_SIZE_INSUFFICIENT;
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    out[i] = values[i];
+  }
+  return XR_SUCCESS;
+}
+
 // Poses.
 XrPosef to_xr(const ScriptPose& p);
 ScriptPose from_xr(const XrPosef& p);

@@ -23,34 +23,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/xr/xr_calls.h"
 #include "tests/xr/xr_fixture.h"
 
 namespace deixis::xr {
 namespace {
-
-const char* name(XrResult r) {
-  switch (r) {
-#define DEIXIS_TEST_RESULT(n, v) \
-  case n:                        \
-    return #n;
-    XR_LIST_ENUM_XrResult(DEIXIS_TEST_RESULT)
-#undef DEIXIS_TEST_RESULT
-        default : return "XR_UNKNOWN_RESULT";
-  }
-}
-
-template <typename T>
-T make(XrStructureType type) {
-  T value{};
-  value.type = type;
-  return value;
-}
-
-#define XR_OK(call)                                                    \
-  do {                                                                 \
-    const XrResult r_ = (call);                                        \
-    ASSERT_TRUE(XR_SUCCEEDED(r_)) << #call << " failed: " << name(r_); \
-  } while (false)
 
 constexpr const char* kIndex = "/interaction_profiles/valve/index_controller";
 constexpr const char* kSimple = "/interaction_profiles/khr/simple_controller";

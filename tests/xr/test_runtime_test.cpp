@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/xr/xr_calls.h"
 #include "tests/xr/xr_fixture.h"
 #include "xr/session_state.h"
 
@@ -27,31 +28,6 @@ namespace deixis::xr {
 namespace {
 
 namespace fs = std::filesystem;
-
-const char* name(XrResult r) {
-  switch (r) {
-#define DEIXIS_TEST_RESULT(n, v) \
-  case n:                        \
-    return #n;
-    XR_LIST_ENUM_XrResult(DEIXIS_TEST_RESULT)
-#undef DEIXIS_TEST_RESULT
-        default : return "XR_UNKNOWN_RESULT";
-  }
-}
-
-// A zeroed OpenXR structure of `type`.
-template <typename T>
-T make(XrStructureType type) {
-  T value{};
-  value.type = type;
-  return value;
-}
-
-#define XR_OK(call)                                                    \
-  do {                                                                 \
-    const XrResult r_ = (call);                                        \
-    ASSERT_TRUE(XR_SUCCEEDED(r_)) << #call << " failed: " << name(r_); \
-  } while (false)
 
 class TestRuntime : public XrRuntimeTest {
  protected:
