@@ -155,16 +155,19 @@ class XrSink final : public xr::FrameSink {
     peer_->close(now);
   }
 
-  void print_summary(const xr::FrameLoopResult& r) const {
+  // `gaze_from_head`: frames whose gaze was estimated as the head's forward (xr/input.h).
+  void print_summary(const xr::FrameLoopResult& r, std::uint64_t gaze_from_head) const {
     std::printf(
         "frames %llu, views rendered %llu, translation ticks %llu (avatar visible in %llu)\n"
-        "headset user tracked: head %llu, gaze %llu, left hand %llu, right hand %llu frames\n"
+        "headset user tracked: head %llu, gaze %llu (estimated from the head in %llu), left hand "
+        "%llu, right hand %llu frames\n"
         "session: focused in %llu frames\n",
         static_cast<unsigned long long>(r.frames),
         static_cast<unsigned long long>(r.rendered_views), static_cast<unsigned long long>(ticks_),
         static_cast<unsigned long long>(visible_ticks_),
         static_cast<unsigned long long>(valid_counts_[0]),
         static_cast<unsigned long long>(valid_counts_[1]),
+        static_cast<unsigned long long>(gaze_from_head),
         static_cast<unsigned long long>(valid_counts_[2]),
         static_cast<unsigned long long>(valid_counts_[3]),
         static_cast<unsigned long long>(r.focused_frames));
@@ -336,7 +339,7 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   xr::Instance instance(xr::InstanceOptions{o.headless, true, true, "deixis xr"});
   std::printf("OpenXR: %s; hand tracking %s, eye gaze %s\n", instance.description().c_str(),
               instance.features().hand_tracking ? "yes" : "no (controller poses)",
-              instance.features().eye_gaze ? "yes" : "no");
+              instance.features().eye_gaze ? "yes" : "no (the head's forward, estimated)");
   xr::GlSession session(instance);
   xr::Swapchains swapchains(instance, session);
   xr::Input input(instance, session);
@@ -355,7 +358,7 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   options.seconds = o.seconds;
   const xr::FrameLoopResult result = loop.run(options, sink);
   sink.close(0.0);
-  sink.print_summary(result);
+  sink.print_summary(result, input.gaze_from_head_frames());
   if (!sink.error().empty()) {
     std::fprintf(stderr, "deixis xr: %s\n", sink.error().c_str());
     return 1;

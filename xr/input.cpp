@@ -240,22 +240,36 @@ bool Input::locate_controller(Hand hand, XrTime time, TrackingFrame& frame) {
   return true;
 }
 
+// The gaze action is only known once actions are synced (with focus); before that no gaze is
+// given, as for the controllers. Without eye gaze the caller estimates it from the head.
+bool Input::locate_eye_gaze(XrTime time, TrackingFrame& frame) {
+  auto gi = make<XrActionStateGetInfo>(XR_TYPE_ACTION_STATE_GET_INFO);
+  gi.action = gaze_action_;
+  auto state = make<XrActionStatePose>(XR_TYPE_ACTION_STATE_POSE);
+  XR_CHECK(instance_, xrGetActionStatePose(session_, &gi, &state));
+  Pose gaze;
+  if (state.isActive != XR_TRUE || !locate_space(gaze_space_, time, gaze)) {
+    return false;
+  }
+  frame.gaze = -gaze.rotation.col(2);
+  frame.valid |= tracked::kGaze;
+  return true;
+}
+
 TrackingFrame Input::locate(XrTime time, double clock) {
   TrackingFrame frame;
   frame.time = clock;
   if (locate_space(view_, time, frame.T_world_head)) {
     frame.valid |= tracked::kHead;
   }
-  if (gaze_space_ != XR_NULL_HANDLE && synced_) {
-    auto gi = make<XrActionStateGetInfo>(XR_TYPE_ACTION_STATE_GET_INFO);
-    gi.action = gaze_action_;
-    auto state = make<XrActionStatePose>(XR_TYPE_ACTION_STATE_POSE);
-    XR_CHECK(instance_, xrGetActionStatePose(session_, &gi, &state));
-    Pose gaze;
-    if (state.isActive == XR_TRUE && locate_space(gaze_space_, time, gaze)) {
-      frame.gaze = -gaze.rotation.col(2);
-      frame.valid |= tracked::kGaze;
-    }
+  const bool eyes_known = gaze_space_ != XR_NULL_HANDLE && synced_;
+  const bool eyes = eyes_known && locate_eye_gaze(time, frame);
+  // No eye tracking (or eyes not tracked now): the head's forward, estimated (decision 79).
+  if (!eyes && (eyes_known || gaze_space_ == XR_NULL_HANDLE) &&
+      (frame.valid & tracked::kHead) != 0) {
+    frame.gaze = -frame.T_world_head.rotation.col(2);
+    frame.valid |= tracked::kGaze;
+    ++gaze_from_head_frames_;
   }
   for (const Hand hand : {Hand::kLeft, Hand::kRight}) {
     const bool ok = hand_tracking() ? locate_hand_joints(hand, time, frame)

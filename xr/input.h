@@ -2,7 +2,11 @@
 // What the headset tells about its user, as the TrackingFrame the rest of Deixis reads
 // (core/tracking.h): the head from the VIEW space, the eye gaze (XR_EXT_eye_gaze_interaction
 // where offered), and per hand the wrist and index fingertip from XR_EXT_hand_tracking's joints
-// where offered, else from the controllers' grip (wrist) and aim (fingertip) poses. A part the
+// where offered, else from the controllers' grip (wrist) and aim (fingertip) poses. Where the
+// runtime has no eye gaze (no XR_EXT_eye_gaze_interaction, or the synced gaze action inactive)
+// the gaze is estimated as the head's forward, as for recordings (docs/bvh.md, decision 79):
+// the translator needs a gaze, and a head-mounted display's forward is where its user looks
+// within the eyes' range. A part the
 // runtime does not report as valid, or reports with a non-finite or non-unit value, is left out
 // of the frame's validity flags.
 //
@@ -13,6 +17,7 @@
 #include <openxr/openxr.h>
 
 #include <array>
+#include <cstdint>
 #include <optional>
 
 #include "core/tracking.h"
@@ -46,11 +51,14 @@ class Input {
 
   bool hand_tracking() const { return hand_trackers_[0] != XR_NULL_HANDLE; }
   bool eye_gaze() const { return gaze_action_ != XR_NULL_HANDLE; }
+  // Frames whose gaze is the head's forward (estimated) rather than the eyes'.
+  std::uint64_t gaze_from_head_frames() const { return gaze_from_head_frames_; }
 
  private:
   bool locate_hand_joints(Hand hand, XrTime time, TrackingFrame& frame);
   bool locate_controller(Hand hand, XrTime time, TrackingFrame& frame);
   bool locate_space(XrSpace space, XrTime time, Pose& out) const;
+  bool locate_eye_gaze(XrTime time, TrackingFrame& frame);
 
   XrInstance instance_;
   XrSession session_;
@@ -69,6 +77,7 @@ class Input {
   PFN_xrDestroyHandTrackerEXT destroy_tracker_ = nullptr;
   std::array<XrHandJointLocationEXT, XR_HAND_JOINT_COUNT_EXT> joints_{};
   bool synced_ = false;
+  std::uint64_t gaze_from_head_frames_ = 0;
 };
 
 }  // namespace deixis::xr

@@ -101,6 +101,7 @@ struct RunResult {
   std::array<Vec3, 2> last_eye;
   bool hand_tracking = false;
   bool eye_gaze = false;
+  std::uint64_t gaze_from_head_frames = 0;
 };
 
 RunResult run_session(bool headless) {
@@ -115,6 +116,7 @@ RunResult run_session(bool headless) {
   out.last_eye = sink.last_eye;
   out.hand_tracking = run.hand_tracking;
   out.eye_gaze = run.eye_gaze;
+  out.gaze_from_head_frames = run.gaze_from_head_frames;
   return out;
 }
 
@@ -202,6 +204,48 @@ TEST_F(FrontEnd, ControllerPathUnderValidation) {
   }
   EXPECT_GT(synced, 0);
   EXPECT_EQ(validation_messages(), "");
+}
+
+// A runtime without eye tracking (Monado's devices, many headsets): the gaze is estimated as
+// the head's forward on every frame with the head (decision 79), never left out, and counted
+// as estimated. The head is turned and the scripted eyes look elsewhere, so neither a fixed
+// forward nor the eyes' gaze passes.
+TEST_F(FrontEnd, WithoutEyeGazeTheGazeIsTheHeadsForwardCountedAsEstimated) {
+  const Quat head = Quat(Eigen::AngleAxisf(25 * kDeg, Vec3::UnitY()) *
+                         Eigen::AngleAxisf(-10 * kDeg, Vec3::UnitX()));
+  nlohmann::json script = {{"display_hz", 90},
+                           {"frames", 20},
+                           {"keys",
+                            {{{"t", 0},
+                              {"head",
+                               {{"position", {0.1, 1.6, 0.05}},
+                                {"orientation", {head.x(), head.y(), head.z(), head.w()}}}},
+                              {"gaze", {0, -0.2, -1}},
+                              {"right", nullptr},
+                              {"left", nullptr}}}}};
+  write_script(script.dump());
+  setenv("DEIXIS_XR_HIDE_EXTENSIONS", "XR_EXT_eye_gaze_interaction", 1);
+  const RunResult r = run_session(true);
+  EXPECT_FALSE(r.eye_gaze);
+  ASSERT_EQ(r.loop.frames, 20u);
+  const Vec3 forward = head * Vec3(0, 0, -1);
+  ASSERT_GT(angle_between(forward, Vec3(0, -0.2f, -1)), 20 * kDeg);
+  for (const auto& seen : r.frames) {
+    const TrackingFrame& f = seen.user;
+    ASSERT_TRUE(f.valid & tracked::kHead) << "frame " << seen.info.index;
+    ASSERT_TRUE(f.valid & tracked::kGaze) << "frame " << seen.info.index;
+    EXPECT_LT(angle_between(f.gaze, forward), 0.1f * kDeg) << "frame " << seen.info.index;
+  }
+  EXPECT_EQ(r.gaze_from_head_frames, r.loop.frames);
+  EXPECT_FALSE(record()["gaze_bound"].get<bool>());
+  EXPECT_EQ(validation_messages(), "");
+}
+
+// With eye tracking the eyes' gaze is used and nothing is estimated.
+TEST_F(FrontEnd, WithEyeGazeNothingIsEstimated) {
+  const RunResult r = run_session(true);
+  EXPECT_TRUE(r.eye_gaze);
+  EXPECT_EQ(r.gaze_from_head_frames, 0u);
 }
 
 TEST_F(FrontEnd, OpenGlSessionRendersBothViewsInOrderAndDeliversTheScriptedUser) {

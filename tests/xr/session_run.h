@@ -16,7 +16,8 @@ struct SessionRun {
   FrameLoopResult loop;
   bool hand_tracking = false;
   bool eye_gaze = false;
-  std::int64_t swapchain_format = 0;  // 0 for a headless session
+  std::uint64_t gaze_from_head_frames = 0;  // gaze estimated as the head's forward
+  std::int64_t swapchain_format = 0;        // 0 for a headless session
 };
 
 inline SessionRun run_session_with(bool headless, FrameSink& sink) {
@@ -31,6 +32,7 @@ inline SessionRun run_session_with(bool headless, FrameSink& sink) {
   run.loop = loop.run({}, sink);
   run.hand_tracking = input.hand_tracking();
   run.eye_gaze = input.eye_gaze();
+  run.gaze_from_head_frames = input.gaze_from_head_frames();
   run.swapchain_format = swapchains.format();
   return run;
 }
