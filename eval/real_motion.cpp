@@ -148,8 +148,8 @@ Recording sample_recording(const mocap::Bvh& bvh, double metres_per_unit, std::s
   r.source_rate_hz = 1.0 / bvh.frame_time;
   mocap::BvhPlayer player(bvh, metres_per_unit, mocap::Playback::kOnce);
   r.body = player.tracking().calibrate(Hand::kRight);
-  const auto count =
-      static_cast<std::size_t>(std::floor(player.duration() * kRealMotionRateHz + 1e-9)) + 1;
+  // The samples a site playing the recording sends (mocap/player.h).
+  const std::size_t count = mocap::sample_count(player.duration(), kRealMotionRateHz);
   r.frames.resize(count);
   for (std::size_t k = 0; k < count; ++k) {
     player.at(static_cast<double>(k) / kRealMotionRateHz, r.frames[k]);

@@ -32,8 +32,8 @@ Table recordings_table() {
       "30 Hz samples of each recording (mocap's player); height and arm from its first "
       "upright frame (docs/bvh.md). A target is designated when it is within 12° of the "
       "gaze ray (the head's forward: recordings have no eyes) or of the eye → fingertip ray "
-      "with the arm extended, or touched (gesture/target_selection.h's rules, without its "
-      "memory of the last target looked at, which is what the translator is sent)."};
+      "with the arm extended, or touched: gesture/target_selection.h's rules on this frame "
+      "alone (the selection the translator is sent keeps the last target looked at)."};
   t.rows.push_back({"recording", "", {}, {}, ""});
   return t;
 }
