@@ -1,11 +1,13 @@
 #pragma once
-// What tests that call OpenXR directly share: result names, zeroed structures of a type, and
-// XR_OK (an assertion naming the call and its result).
+// What tests that call OpenXR directly share: result names, zeroed structures of a type
+// (xr/xr_struct.h), and XR_OK (an assertion naming the call and its result).
 
 #include <openxr/openxr.h>
 #include <openxr/openxr_reflection.h>
 
 #include <gtest/gtest.h>
+
+#include "xr/xr_struct.h"  // make<XrFoo>(XR_TYPE_FOO)
 
 namespace deixis::xr {
 
@@ -18,14 +20,6 @@ inline const char* name(XrResult r) {
 #undef DEIXIS_TEST_RESULT
         default : return "XR_UNKNOWN_RESULT";
   }
-}
-
-// A zeroed OpenXR structure of `type`.
-template <typename T>
-T make(XrStructureType type) {
-  T value{};
-  value.type = type;
-  return value;
 }
 
 #define XR_OK(call)                                                                  \
