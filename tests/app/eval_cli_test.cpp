@@ -36,8 +36,16 @@ TEST(EvalCli, AQuickEvaluationWritesTheTables) {
   deixis::testing::ScratchDir dir;
   const fs::path data = make_test_set(dir.path());
   const fs::path out = dir.path() / "eval";
-  Deixis eval({"eval", "--quick", "--data", data.string(), "--subjects", "161", "--out",
-               out.string(), "--weights", "authors=" + weights_dir()});
+  // With a recording as well (when Debian's is installed), its section comes after the
+  // synthetic tables, apart from them.
+  const fs::path bvh = "/usr/share/assimp/models/BVH/Boxing_Toes.bvh";
+  std::vector<std::string> args = {
+      "eval", "--quick", "--data",     data.string(), "--subjects",
+      "161",  "--out",   out.string(), "--weights",   "authors=" + weights_dir()};
+  if (fs::exists(bvh)) {
+    args.insert(args.end(), {"--bvh", bvh.string()});
+  }
+  Deixis eval(args);
   ASSERT_EQ(eval.wait(), 0) << eval.err();
   for (const char* file : {"tables.md", "results.json", "fig5.png"}) {
     EXPECT_GT(fs::file_size(out / file), 100u) << file;
@@ -45,6 +53,16 @@ TEST(EvalCli, AQuickEvaluationWritesTheTables) {
   EXPECT_NE(eval.out().find("Table I"), std::string::npos) << eval.out();
   const nlohmann::json results = nlohmann::json::parse(std::ifstream(out / "results.json"));
   EXPECT_EQ(results["subjects"], nlohmann::json({"161"}));
+  if (fs::exists(bvh)) {
+    const std::size_t real = eval.out().find("# Real motion (BVH)");
+    ASSERT_NE(real, std::string::npos) << eval.out();
+    EXPECT_GT(real, eval.out().rfind("## Table V.")) << "the synthetic tables come first";
+    EXPECT_GT(eval.out().find("| Boxing_Toes"), real) << "no recording's row among the synthetic";
+    EXPECT_EQ(results["real_motion"]["recordings"], nlohmann::json({"Boxing_Toes.bvh"}));
+    for (const nlohmann::json& table : results["tables"]) {
+      EXPECT_FALSE(table["id"].get<std::string>().starts_with("R")) << table["id"];
+    }
+  }
 }
 
 TEST(EvalCli, TheTrainingSubjectsDataIsRefused) {
