@@ -131,6 +131,14 @@ XrResult find_state(const Runtime& rt, XrSession session, const XrActionStateGet
   return XR_ERROR_PATH_UNSUPPORTED;  // not one of the action's subaction paths
 }
 
+// What boolean, float and vector2 states share.
+template <typename Out>
+void fill_change(const ActionState& s, Out& out) {
+  out.changedSinceLastSync = s.changed ? XR_TRUE : XR_FALSE;
+  out.lastChangeTime = s.last_change;
+  out.isActive = s.active ? XR_TRUE : XR_FALSE;
+}
+
 void announce_profiles(Runtime& rt) {
   SessionObject& s = rt.session_state;
   if (s.profiles_announced || !s.running) {
@@ -206,9 +214,7 @@ XrResult XRAPI_CALL GetActionStateBoolean(XrSession session, const XrActionState
     return XR_ERROR_VALIDATION_FAILURE;
   }
   out->currentState = s->x != 0.0f ? XR_TRUE : XR_FALSE;
-  out->changedSinceLastSync = s->changed ? XR_TRUE : XR_FALSE;
-  out->lastChangeTime = s->last_change;
-  out->isActive = s->active ? XR_TRUE : XR_FALSE;
+  fill_change(*s, *out);
   return XR_SUCCESS;
 }
 
@@ -225,9 +231,7 @@ XrResult XRAPI_CALL GetActionStateFloat(XrSession session, const XrActionStateGe
     return XR_ERROR_VALIDATION_FAILURE;
   }
   out->currentState = s->x;
-  out->changedSinceLastSync = s->changed ? XR_TRUE : XR_FALSE;
-  out->lastChangeTime = s->last_change;
-  out->isActive = s->active ? XR_TRUE : XR_FALSE;
+  fill_change(*s, *out);
   return XR_SUCCESS;
 }
 
@@ -244,9 +248,7 @@ XrResult XRAPI_CALL GetActionStateVector2f(XrSession session, const XrActionStat
     return XR_ERROR_VALIDATION_FAILURE;
   }
   out->currentState = {s->x, s->y};
-  out->changedSinceLastSync = s->changed ? XR_TRUE : XR_FALSE;
-  out->lastChangeTime = s->last_change;
-  out->isActive = s->active ? XR_TRUE : XR_FALSE;
+  fill_change(*s, *out);
   return XR_SUCCESS;
 }
 
