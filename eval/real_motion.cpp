@@ -76,6 +76,20 @@ void count_progression(SetSums& s, const nn::Progression& p) {
   }
 }
 
+// One frame of one set's translator: its progression, and on a free frame its following error.
+void take_frame(SetSums& s, const AvatarFrame& out, const EndEffectorPoses& copied, bool free,
+                std::size_t second) {
+  count_progression(s, out.progression);
+  if (!free || !out.ready) {
+    return;
+  }
+  const FollowingError e = following_error(out.deictic, copied);
+  add(s.following, e);
+  ++s.following_frames;
+  add(s.second_sums[second], e);
+  ++s.second_frames[second];
+}
+
 RealMotionFigures figures(const SetSums& s, const std::string& label, std::size_t frames,
                           bool compared) {
   RealMotionFigures f;
@@ -214,14 +228,7 @@ RealMotionResult measure_real_motion(const Recording& recording,
     for (std::size_t s = 0; s < networks.size(); ++s) {
       const AvatarFrame out = translators[s].tick(&frame, avatar_room);
       progression[s] = out.progression;
-      count_progression(sums[s], out.progression);
-      if (free && out.ready) {
-        const FollowingError e = following_error(out.deictic, copied);
-        add(sums[s].following, e);
-        ++sums[s].following_frames;
-        add(sums[s].second_sums[k / kFramesPerSecond], e);
-        ++sums[s].second_frames[k / kFramesPerSecond];
-      }
+      take_frame(sums[s], out, copied, free, k / kFramesPerSecond);
     }
     for (std::size_t s = 0; reference && s < networks.size(); ++s) {
       for (std::size_t c = 0; c < 3; ++c) {
