@@ -519,25 +519,14 @@ TEST_F(RuntimeInput, ABadScriptInputIsRefusedNamingIt) {
   };
   for (const auto& [script, field] : cases) {
     write_script(script);
-    const auto caught = dir_ / "stderr.txt";
-    std::fflush(stderr);
-    const int saved = dup(STDERR_FILENO);
-    const int file = open(caught.c_str(), O_CREAT | O_TRUNC | O_WRONLY, 0644);
-    dup2(file, STDERR_FILENO);
-    const XrResult r = create_instance(false);
-    std::fflush(stderr);
-    dup2(saved, STDERR_FILENO);
-    close(saved);
-    close(file);
+    const auto [r, said] =
+        with_stderr(dir_ / "stderr.txt", [this] { return create_instance(false); });
     EXPECT_EQ(r, XR_ERROR_INITIALIZATION_FAILED) << script;
     if (XR_SUCCEEDED(r)) {
       xrDestroyInstance(instance_);
     }
     instance_ = XR_NULL_HANDLE;
-    std::ifstream in(caught);
-    std::stringstream said;
-    said << in.rdbuf();
-    EXPECT_NE(said.str().find(field), std::string::npos) << field << ": " << said.str();
+    EXPECT_NE(said.find(field), std::string::npos) << field << ": " << said;
   }
 }
 

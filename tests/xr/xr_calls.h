@@ -5,7 +5,15 @@
 #include <openxr/openxr.h>
 #include <openxr/openxr_reflection.h>
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
 
 #include "xr/xr_struct.h"  // make<XrFoo>(XR_TYPE_FOO)
 
@@ -27,5 +35,24 @@ inline const char* name(XrResult r) {
     const XrResult r_ = (call);                                                      \
     ASSERT_TRUE(XR_SUCCEEDED(r_)) << #call << " failed: " << ::deixis::xr::name(r_); \
   } while (false)
+
+// What `call` writes to standard error (the runtime says there why it refuses a script), caught
+// in `file`, with the call's result.
+template <typename Call>
+std::pair<XrResult, std::string> with_stderr(const std::filesystem::path& file, Call&& call) {
+  std::fflush(stderr);
+  const int saved = dup(STDERR_FILENO);
+  const int fd = open(file.c_str(), O_CREAT | O_TRUNC | O_WRONLY, 0644);
+  dup2(fd, STDERR_FILENO);
+  const XrResult r = call();
+  std::fflush(stderr);
+  dup2(saved, STDERR_FILENO);
+  close(saved);
+  close(fd);
+  std::ifstream in(file);
+  std::stringstream said;
+  said << in.rdbuf();
+  return {r, said.str()};
+}
 
 }  // namespace deixis::xr
