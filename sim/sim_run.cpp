@@ -39,6 +39,7 @@
 #include "sim/sim_user.h"
 #include "sim/sim_views.h"
 #include "site/moe_weights.h"
+#include "site/recorded_user.h"
 #include "site/remote_people.h"
 
 namespace deixis::sim {
@@ -62,9 +63,22 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// The site's virtual user's subject and seed, or the demo's site-A subject.
+// The site's virtual user's subject and seed, or the demo's site-A subject (also when the
+// virtual user is a recording: the mouse drives a synthetic person).
 const capture::Subject& user_subject(const site::SiteConfig& a) {
-  return capture::find_subject(a.virtual_user ? a.virtual_user->subject : "172");
+  const bool named = a.virtual_user && !a.virtual_user->subject.empty();
+  return capture::find_subject(named ? a.virtual_user->subject : "172");
+}
+
+// --script with a recording (docs/bvh.md#driving-a-site): its person on A's user spot at 30 Hz, as
+// host and join play it; a performance without labels, since a recording designates nothing.
+capture::ScriptPerformance recorded_performance(const site::SiteConfig& a, double seconds) {
+  site::ScriptedUser user = site::play_recorded_user(a, seconds);
+  capture::ScriptPerformance performance;
+  performance.sequence.calibration = user.body;
+  performance.sequence.labels.assign(user.frames.size(), capture::Labels{});
+  performance.sequence.frames = std::move(user.frames);
+  return performance;
 }
 
 // The avatar standing in the remote room and the translator + IK that drive it. Rebuilt when the
@@ -122,20 +136,24 @@ SimAssets load_assets(const sim::SimOptions& o) {
       throw Error(o.site_a.string() + ": virtual_user: missing (--script plays it)");
     }
     const site::VirtualUser& v = *s.a.virtual_user;
-    // The k-th person the script names is aimed at where the avatar on spot k stands; each tick
-    // the target becomes whoever of that site is here (site/remote_people.h), as for host/join.
-    std::vector<capture::ScenePerson> people;
-    for (std::size_t k = 0; k < v.people.size(); ++k) {
-      people.push_back({v.people[k], script_person_target(k),
-                        site::expected_person_head(s.a, *s.user_solver, k)});
-    }
-    const capture::VirtualUserScene scene{s.a.user.T_world_floor(), s.a.target_map.objects,
-                                          partner.translation, people};
-    try {
-      s.script = capture::perform_script(capture::find_subject(v.subject), v.script, scene, v.seed,
-                                         std::max(o.seconds, kScriptMinSeconds));
-    } catch (const Error& e) {
-      throw Error(o.site_a.string() + ": " + e.what());
+    if (v.recording) {
+      s.script = recorded_performance(s.a, std::max(o.seconds, kScriptMinSeconds));
+    } else {
+      // The k-th person the script names is aimed at where the avatar on spot k stands; each tick
+      // the target becomes whoever of that site is here (site/remote_people.h), as for host/join.
+      std::vector<capture::ScenePerson> people;
+      for (std::size_t k = 0; k < v.people.size(); ++k) {
+        people.push_back({v.people[k], script_person_target(k),
+                          site::expected_person_head(s.a, *s.user_solver, k)});
+      }
+      const capture::VirtualUserScene scene{s.a.user.T_world_floor(), s.a.target_map.objects,
+                                            partner.translation, people};
+      try {
+        s.script = capture::perform_script(capture::find_subject(v.subject), v.script, scene,
+                                           v.seed, std::max(o.seconds, kScriptMinSeconds));
+      } catch (const Error& e) {
+        throw Error(o.site_a.string() + ": " + e.what());
+      }
     }
     s.calibration = s.script->sequence.calibration;
   } else {

@@ -32,14 +32,15 @@ ScriptedUser play_recorded_user(const SiteConfig& site, double seconds) {
 std::string describe_recorded_user(const SiteConfig& site, const ScriptedUser& user) {
   const RecordedUser& r = *site.virtual_user->recording;
   char line[512];
-  std::snprintf(line, sizeof line,
-                "virtual user: %s, %zu frames at %.1f Hz (unit %s), %s, %zu ticks; body height "
-                "%.3f m, arm %.3f m, %s hand",
-                r.path.string().c_str(), r.bvh->frames(), 1.0 / r.bvh->frame_time,
-                std::string(mocap::unit_name(r.unit)).c_str(),
-                r.play.playback == mocap::Playback::kLoop ? "looping" : "once", user.frames.size(),
-                static_cast<double>(user.body.height), static_cast<double>(user.body.arm_length),
-                user.body.deictic_hand == Hand::kLeft ? "left" : "right");
+  std::snprintf(
+      line, sizeof line,
+      "virtual user: %s, %zu frames at %.1f Hz (unit %s), %s, %zu samples at 30 Hz; body height "
+      "%.3f m, arm %.3f m, %s hand",
+      r.path.string().c_str(), r.bvh->frames(), 1.0 / r.bvh->frame_time,
+      std::string(mocap::unit_name(r.unit)).c_str(),
+      r.play.playback == mocap::Playback::kLoop ? "looping" : "once", user.frames.size(),
+      static_cast<double>(user.body.height), static_cast<double>(user.body.arm_length),
+      user.body.deictic_hand == Hand::kLeft ? "left" : "right");
   return line;
 }
 

@@ -61,10 +61,10 @@ TEST(RecordedSite, AHostPlayingARecordingIsFollowedByTheJoinersAvatar) {
   ASSERT_EQ(join.wait(), 0) << join.err();
   ASSERT_EQ(host.wait(), 0) << host.err();
   // The host names the recording, its unit and the body its hello sent.
-  // From 2 s on: frames 240 to 2751.
-  const std::string said =
-      "virtual user: " + kCmu.string() +
-      ", 2512 frames at 120.0 Hz (unit cmu), looping, 180 ticks; body height 1.";
+  // From 2 s on: frames 240 to 2751; 6 s at 30 Hz, both ends.
+  const std::string said = "virtual user: " + kCmu.string() +
+                           ", 2512 frames at 120.0 Hz (unit cmu), looping, 181 samples at 30 Hz; "
+                           "body height 1.";
   EXPECT_NE(host.err().find(said), std::string::npos) << host.err();
 
   const json b = read_json(dir.path() / "B/session.json");

@@ -169,7 +169,7 @@ TEST(RecordedUser, TheSiteSendsTheRecordingsTrackingPlacedOnItsSpot) {
   const double start = 120 * file.frame_time;
   for (std::size_t k = 0; k < user.frames.size(); ++k) {
     // The whole file's player at the same time, within a hair of the recorded frame there (the
-    // file's rounded frame time drifts 4e-6 of a frame a frame); the last tick, a hair past `to`,
+    // file's rounded frame time drifts 4e-7 of a frame a frame); the last tick, a hair past `to`,
     // is `to`'s frame itself (once: held).
     TrackingFrame expected;
     TrackingFrame recorded;
@@ -216,6 +216,24 @@ TEST(RecordedUser, TheSiteSendsTheRecordingsTrackingPlacedOnItsSpot) {
   EXPECT_LT((sent.T_world_root.rotation - T.rotation * measured.T_world_root.rotation).norm(),
             1e-5f);
   EXPECT_GT(sent.height, 1.4f);
+}
+
+// The shipped example (assets/sites/a-recorded.json): the boxer of Debian's Boxing_Toes.bvh,
+// 0 to 23 s, on site A's user spot.
+TEST(RecordedUser, TheExampleSiteLoads) {
+  const fs::path boxing = "/usr/share/assimp/models/BVH/Boxing_Toes.bvh";
+  if (!fs::exists(boxing)) {
+    GTEST_SKIP() << "no " << boxing << " (Debian's assimp-testmodels; tools/install-deps)";
+  }
+  const SiteConfig site = read_site_config(testing::source_dir() / "assets/sites/a-recorded.json");
+  ASSERT_TRUE(site.virtual_user && site.virtual_user->recording);
+  const RecordedUser& r = *site.virtual_user->recording;
+  EXPECT_EQ(r.unit, mocap::LengthUnit::kCentimetre);
+  EXPECT_EQ(r.bvh->frames(), 2301u);
+  const ScriptedUser user = play_recorded_user(site, 2.0);
+  EXPECT_EQ(user.frames.size(), 61u);
+  EXPECT_GT(user.body.height, 1.6f);
+  EXPECT_LT(user.body.height, 1.8f);
 }
 
 TEST(RecordedUser, OncePlaybackHoldsTheLastFrameForALongerRun) {
