@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -65,11 +66,9 @@ TEST(LiveRoomsProcess, OnePairIsRunAndItsCompletionsReported) {
   // harness's to report, this only asks that translation happened).
   EXPECT_LT(r["all"]["deixis"]["he_deg"]["mean"].get<double>(),
             r["all"]["copy_paste"]["he_deg"]["mean"].get<double>());
-  const std::string md = [&] {
-    std::ifstream in(out / "live_rooms.md");
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  }();
-  EXPECT_NE(md.find("per target geometry"), std::string::npos) << md;
+  std::ostringstream md;
+  md << std::ifstream(out / "live_rooms.md").rdbuf();
+  EXPECT_NE(md.str().find("per target geometry"), std::string::npos) << md.str();
 }
 
 TEST(LiveRoomsProcess, BadFlagsExit2NamingThem) {
