@@ -30,6 +30,7 @@
 #include "render/renderer.h"
 #include "site/live_peer.h"
 #include "site/moe_weights.h"
+#include "site/recorded_user.h"
 #include "site/site_config.h"
 #include "site/site_session.h"
 #include "xr/frame_loop.h"
@@ -55,6 +56,10 @@ capture::ScriptPerformance perform_remote(const site::SiteConfig& remote,
   if (!remote.virtual_user) {
     throw Error(source.string() +
                 ": virtual_user: missing (the remote person is this site's scripted user)");
+  }
+  if (remote.virtual_user->recording) {  // docs/bvh.md#driving-a-site
+    site::ScriptedUser user = site::play_recorded_user(remote, seconds);
+    return capture::unscripted_performance(user.body, std::move(user.frames));
   }
   const Pose partner = presence::avatar_origin(solver, remote.remote_avatar.T_world_floor());
   const capture::VirtualUserScene scene{remote.user.T_world_floor(), remote.target_map.objects,

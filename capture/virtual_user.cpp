@@ -147,4 +147,13 @@ ScriptPerformance perform_script(const Subject& subject, std::span<const ScriptS
   return person.run(script, min_seconds);
 }
 
+ScriptPerformance unscripted_performance(const BodyCalibration& body,
+                                         std::vector<TrackingFrame> frames) {
+  ScriptPerformance performance;
+  performance.sequence.calibration = body;
+  performance.sequence.labels.assign(frames.size(), Labels{});
+  performance.sequence.frames = std::move(frames);
+  return performance;
+}
+
 }  // namespace deixis::capture

@@ -48,4 +48,9 @@ ScriptPerformance perform_script(const Subject& subject, std::span<const ScriptS
                                  const VirtualUserScene& scene, std::uint64_t seed,
                                  double min_seconds = 0.0);
 
+// A performance nobody scripted: a recording a site plays (docs/bvh.md#driving-a-site), with its
+// body and frames; no labels beyond zeros (it designates nothing) and no steps.
+ScriptPerformance unscripted_performance(const BodyCalibration& body,
+                                         std::vector<TrackingFrame> frames);
+
 }  // namespace deixis::capture

@@ -74,11 +74,7 @@ const capture::Subject& user_subject(const site::SiteConfig& a) {
 // host and join play it; a performance without labels, since a recording designates nothing.
 capture::ScriptPerformance recorded_performance(const site::SiteConfig& a, double seconds) {
   site::ScriptedUser user = site::play_recorded_user(a, seconds);
-  capture::ScriptPerformance performance;
-  performance.sequence.calibration = user.body;
-  performance.sequence.labels.assign(user.frames.size(), capture::Labels{});
-  performance.sequence.frames = std::move(user.frames);
-  return performance;
+  return capture::unscripted_performance(user.body, std::move(user.frames));
 }
 
 // The avatar standing in the remote room and the translator + IK that drive it. Rebuilt when the
