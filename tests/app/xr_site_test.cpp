@@ -15,10 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/deixis_child.h"
-#include "avatar/avatar_loader.h"
-#include "capture/subject.h"
-#include "capture/virtual_user.h"
-#include "presence/remote_avatar.h"
+#include "app/scripted_person.h"
 #include "site/site_config.h"
 #include "test_support.h"
 #include "tests/xr/runtime_script.h"
@@ -45,24 +42,12 @@ std::string short_site_a() {
   return a.dump();
 }
 
-// The site's virtual user performed in room A, as `deixis host --site` would.
-std::vector<TrackingFrame> performed(const fs::path& site_file) {
-  const site::SiteConfig a = site::read_site_config(site_file);
-  const ik::AvatarSolver solver = ik::AvatarSolver::build(avatar::load_avatar(a.avatar_path).rig);
-  const Pose partner = presence::avatar_origin(solver, a.remote_avatar.T_world_floor());
-  const capture::VirtualUserScene scene{a.user.T_world_floor(), a.target_map.objects,
-                                        partner.translation};
-  const site::VirtualUser& user = *a.virtual_user;
-  return capture::perform_script(capture::find_subject(user.subject), user.script, scene, user.seed)
-      .sequence.frames;
-}
-
 class XrSite : public ::testing::Test {
  protected:
   void SetUp() override {
     site_a_ = dir_.path() / "a.json";
     std::ofstream(site_a_) << short_site_a();
-    const std::vector<TrackingFrame> person = performed(site_a_);
+    const std::vector<TrackingFrame> person = performed_virtual_user(site_a_);
     seconds_ = static_cast<double>(person.size()) / 30.0;
     std::ofstream(dir_.path() / "script.json") << xr::runtime_script(person, /*realtime=*/true);
     setenv("XR_RUNTIME_JSON", DEIXIS_XR_RUNTIME_JSON, 1);
