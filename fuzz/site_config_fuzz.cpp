@@ -3,7 +3,8 @@
 // either parse into a configuration whose site name the wire accepts, or be refused with a
 // deixis::Error naming the file. Relative paths resolve against the repository's assets/sites/ (so
 // the seeds' target maps load and the fuzzer reaches the placements and the virtual user's script).
-// Seeds (fuzz/corpus/site_config/): the demo sites and hostile files.
+// Seeds (fuzz/corpus/site_config/): the demo sites (one played by a BVH recording, read from
+// Debian's assimp-testmodels where installed) and hostile files.
 
 #include <cstddef>
 #include <cstdint>
