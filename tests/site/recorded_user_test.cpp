@@ -121,6 +121,7 @@ TEST(RecordedUser, BadFieldsAndFilesAreNamed) {
        "virtual_user.body: missing field 'arm_length'"},
       {R"({"bvh": "walk.bvh", "speed": 2})", "unknown field 'speed'"},
       {R"({"bvh": "missing.bvh"})", "virtual_user.bvh: " + (dir.path() / "missing.bvh").string()},
+      {R"({"bvh": "/dev/zero"})", "virtual_user.bvh: /dev/zero: cannot read"},
       {R"({"bvh": "bad.bvh"})", "virtual_user.bvh: " + (dir.path() / "bad.bvh").string() + ":11: "},
       {R"({"bvh": "lying.bvh"})",
        "virtual_user.bvh: " + (dir.path() / "lying.bvh").string() +
