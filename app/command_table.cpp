@@ -56,7 +56,7 @@ void add_site_flags(CLI::App* cmd, site::SiteRunOptions& o) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--seconds", o.seconds,
                   "How long to stream, from when the sites connect (default: the virtual user's "
-                  "script)")
+                  "script, or its BVH recording once)")
       ->check(CLI::Range(0.0, 3600.0));
   cmd->add_option("--wait", o.wait, "Seconds to wait for the other site")
       ->capture_default_str()
