@@ -142,7 +142,8 @@ int run_eval(const EvalOptions& options);
 // stated rules (eval/room_pairs.h) from `seed`, each run as `deixis host` + `deixis join` on
 // loopback (this program started twice), their observers' completions pooled into
 // live_rooms.md, live_rooms.json and live_rooms.png under `out_dir` (each pair's sites and
-// session.json under live_rooms/pair-NNN/). Exit 0 with the report, 1 when a pair's sites fail, 2 for bad flags.
+// session.json under live_rooms/pair-NNN/). Exit 0 with the report, 1 when a pair's sites fail,
+// 2 for bad flags.
 struct LiveRoomsOptions {
   int pairs = 0;
   std::uint64_t seed = 1;
