@@ -126,9 +126,9 @@ TEST_P(LivePeerHotPath, TicksAllocateNothingOnceEveryoneIsThere) {
     relay = std::make_unique<RelayThread>();
   }
   LivePeer pa(options(true, room ? relay->port() : 0), a.config, a.body, networks, a.solver,
-              clock.now());
+              WornAvatars{}, clock.now());
   LivePeer pb(options(false, room ? relay->port() : pa.port()), b.config, b.body, networks,
-              b.solver, clock.now());
+              b.solver, WornAvatars{}, clock.now());
   std::array<LivePerson, 4> listed;
   std::size_t tick = 0;
   std::size_t asked = 0;  // what the front ends read each tick, so that it is not optimised away
