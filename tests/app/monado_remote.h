@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cstdint>
@@ -119,11 +120,17 @@ inline std::string check_reset(const Packet& p) {
 // A TCP connection to the driver on 127.0.0.1.
 class RemoteConnection {
  public:
-  // Connects within `wait` (the service may still be starting), then reads and checks the
-  // driver's reset packet within 5 s. Throws deixis::Error naming the port and the reason.
-  RemoteConnection(int port, std::chrono::milliseconds wait) : port_(port) {
+  // Connects within `wait` (the service may still be starting) unless `cancel` is set first,
+  // then reads and checks the driver's reset packet within 5 s. Throws deixis::Error naming the
+  // port and the reason.
+  RemoteConnection(int port, std::chrono::milliseconds wait,
+                   const std::atomic<bool>* cancel = nullptr)
+      : port_(port) {
     const auto until = std::chrono::steady_clock::now() + wait;
     while (!try_connect()) {
+      if (cancel != nullptr && *cancel) {
+        throw Error(where() + ": given up (the test ended before the driver listened)");
+      }
       if (std::chrono::steady_clock::now() > until) {
         throw Error(where() + ": nothing accepted a connection within " +
                     std::to_string(wait.count()) + " ms (is monado-service running with the " +
