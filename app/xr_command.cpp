@@ -25,7 +25,6 @@
 #include "gesture/upright_calibration.h"
 #include "ik/avatar_solver.h"
 #include "presence/remote_avatar.h"
-#include "render/headless_context.h"
 #include "render/mesh_cache.h"
 #include "render/renderer.h"
 #include "site/live_peer.h"
@@ -34,6 +33,7 @@
 #include "site/site_config.h"
 #include "site/site_session.h"
 #include "xr/frame_loop.h"
+#include "xr/gl_context.h"
 #include "xr/gl_session.h"
 #include "xr/input.h"
 #include "xr/instance.h"
@@ -335,13 +335,14 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
                                      .T_world_floor = remote_floor,
                                      .mirrored = site::translated_mirrored(person.deictic_hand)});
   }
-  // The EGL context the OpenXR session binds to; the views go to the swapchains.
-  render::HeadlessContext context(16, 16);
+  xr::Instance instance(xr::InstanceOptions{o.headless, true, true, "deixis xr"});
+  // The context the OpenXR session binds to, by what the runtime offers (EGL, else a hidden
+  // GLFW window's GLX context: xr/gl_context.h); the views go to the swapchains.
+  const std::unique_ptr<render::Context> context = xr::make_gl_context(instance);
   render::Renderer renderer;
   renderer.set_targets(a.site.target_map);
   const avatar::SkinnedMesh& mesh =
       local_avatar && override_avatar ? override_avatar->avatar.mesh : a.avatar.mesh;
-  xr::Instance instance(xr::InstanceOptions{o.headless, true, true, "deixis xr"});
   std::printf("OpenXR: %s; hand tracking %s, eye gaze %s\n", instance.description().c_str(),
               instance.features().hand_tracking ? "yes" : "no (controller poses)",
               instance.features().eye_gaze ? "yes" : "no (the head's forward, estimated)");

@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/deixis_child.h"
 #include "core/error.h"
 #include "render/headless_context.h"
 #include "render/renderer.h"
@@ -120,6 +121,24 @@ TEST_F(GlxSession, WithoutEglTheFrontEndRendersThroughGlx) {
     }
     EXPECT_GT(lit, 512u * 512u / 2) << image;
   }
+  EXPECT_EQ(validation_errors(), "");
+}
+
+// `deixis xr` itself on a runtime without EGL: its context is the hidden GLX window's (chosen by
+// xr::make_gl_context), the session runs to its end and both views are rendered.
+TEST_F(GlxSession, DeixisXrRendersThroughGlxWithoutEgl) {
+  render::testing::XvfbServer x;
+  if (x.missing()) {
+    GTEST_SKIP() << x.error();
+  }
+  ASSERT_TRUE(x.ready()) << x.error();
+  setenv("DEIXIS_XR_HIDE_EXTENSIONS", "XR_MNDX_egl_enable", 1);
+  app::Deixis xr(std::vector<std::string>{"xr"});
+  ASSERT_EQ(xr.wait(), 0) << xr.out() << xr.err();
+  EXPECT_EQ(record()["graphics"], "xlib");
+  const std::size_t at = xr.out().find("views rendered ");
+  ASSERT_NE(at, std::string::npos) << xr.out();
+  EXPECT_GE(std::atoi(xr.out().c_str() + at + 15), 2 * 18) << xr.out();
   EXPECT_EQ(validation_errors(), "");
 }
 
