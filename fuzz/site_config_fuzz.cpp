@@ -44,7 +44,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
               deixis::is_wire_text(config.site),
           "the site name is wire text");
     if (config.virtual_user) {
-      check(!config.virtual_user->script.empty(), "a virtual user has a script");
+      // A synthetic subject performs a script; a recording (docs/bvh.md) plays and has none.
+      const deixis::site::VirtualUser& user = *config.virtual_user;
+      check(user.recording.has_value() != !user.subject.empty(),
+            "a virtual user is a subject or a recording");
+      check(user.recording ? user.script.empty() : !user.script.empty(),
+            "a subject has a script, a recording none");
     }
   } catch (const deixis::Error& e) {
     check(std::string(e.what()).rfind("fuzz-input.json: ", 0) == 0, "errors name the file");
