@@ -191,6 +191,25 @@ void wait_for_all(std::initializer_list<ChildProcess*> children, double timeout)
   }
 }
 
+void run_host_and_join(const fs::path& self, const std::vector<std::string>& host_args,
+                       const std::vector<std::string>& join_args, double listen_timeout,
+                       double timeout) {
+  std::vector<std::string> a = {"host", "--port", "0", "--bind", "127.0.0.1"};
+  a.insert(a.end(), host_args.begin(), host_args.end());
+  ChildProcess host("site A (host)", self.string(), a);
+  const std::optional<std::string> port =
+      host.line_starting("port ", ChildProcess::now() + listen_timeout);
+  if (!port) {
+    throw Error(host.poll() ? failure(host)
+                            : "site A (host) did not start listening within " +
+                                  std::to_string(listen_timeout) + " s");
+  }
+  std::vector<std::string> b = {"join", "--connect", "127.0.0.1:" + port->substr(5)};
+  b.insert(b.end(), join_args.begin(), join_args.end());
+  ChildProcess join("site B (join)", self.string(), b);
+  wait_for_all({&host, &join}, timeout);
+}
+
 void pass_passphrase(const std::string& passphrase) {
   const int failed = passphrase.empty() ? unsetenv(site::kPassphraseVariable)
                                         : setenv(site::kPassphraseVariable, passphrase.c_str(), 1);

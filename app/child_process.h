@@ -66,6 +66,14 @@ std::string failure(const ChildProcess& child);
 // others and throws deixis::Error naming it (or those still running).
 void wait_for_all(std::initializer_list<ChildProcess*> children, double timeout);
 
+// Site A as `deixis host --port 0 --bind 127.0.0.1` followed by `host_args`, and once it prints
+// "port N" (within `listen_timeout` s), site B as `deixis join --connect 127.0.0.1:N` followed by
+// `join_args`, both this program (`self`); then waits for both (wait_for_all). Throws
+// deixis::Error naming the site that failed or did not listen.
+void run_host_and_join(const std::filesystem::path& self, const std::vector<std::string>& host_args,
+                       const std::vector<std::string>& join_args, double listen_timeout,
+                       double timeout);
+
 // Sites started after this read `passphrase` from DEIXIS_PASSPHRASE, which they inherit: on
 // their command lines other users of the machine could read it (ps). Empty: none is inherited.
 void pass_passphrase(const std::string& passphrase);

@@ -45,26 +45,8 @@ std::vector<std::string> site_args(const DemoOptions& o, const fs::path& site,
 
 void run_sites(const DemoOptions& o, const fs::path& self) {
   pass_passphrase(o.passphrase);
-  ChildProcess host("site A (host)", self.string(), [&] {
-    std::vector<std::string> a = {"host", "--port", "0", "--bind", "127.0.0.1"};
-    const auto rest = site_args(o, o.site_a, o.out_dir / "A");
-    a.insert(a.end(), rest.begin(), rest.end());
-    return a;
-  }());
-  const std::optional<std::string> port =
-      host.line_starting("port ", ChildProcess::now() + kListenTimeout);
-  if (!port) {
-    throw Error(host.poll() ? failure(host)
-                            : "site A (host) did not start listening within " +
-                                  std::to_string(kListenTimeout) + " s");
-  }
-  ChildProcess join("site B (join)", self.string(), [&] {
-    std::vector<std::string> a = {"join", "--connect", "127.0.0.1:" + port->substr(5)};
-    const auto rest = site_args(o, o.site_b, o.out_dir / "B");
-    a.insert(a.end(), rest.begin(), rest.end());
-    return a;
-  }());
-  wait_for_all({&host, &join}, o.timeout);
+  run_host_and_join(self, site_args(o, o.site_a, o.out_dir / "A"),
+                    site_args(o, o.site_b, o.out_dir / "B"), kListenTimeout, o.timeout);
 }
 
 // A relay and three sites in the room "demo"; the relay ends with the sites.

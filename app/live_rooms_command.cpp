@@ -143,20 +143,8 @@ void run_pair(const LiveRoomsOptions& o, const fs::path& self, const fs::path& d
         "--weights-dir", o.weights_dir.string(), "--wait", "60",
         "--no-video"};
   };
-  std::vector<std::string> host_args = {"host", "--port", "0", "--bind", "127.0.0.1"};
-  const std::vector<std::string> a = site_args("a.json", "A");
-  host_args.insert(host_args.end(), a.begin(), a.end());
-  ChildProcess host("site A (host)", self.string(), host_args);
-  const std::optional<std::string> port =
-      host.line_starting("port ", ChildProcess::now() + kListenTimeout);
-  if (!port) {
-    throw Error(host.poll() ? failure(host) : "site A (host) did not start listening");
-  }
-  std::vector<std::string> join_args = {"join", "--connect", "127.0.0.1:" + port->substr(5)};
-  const std::vector<std::string> b = site_args("b.json", "B");
-  join_args.insert(join_args.end(), b.begin(), b.end());
-  ChildProcess join("site B (join)", self.string(), join_args);
-  wait_for_all({&host, &join}, o.timeout);
+  run_host_and_join(self, site_args("a.json", "A"), site_args("b.json", "B"), kListenTimeout,
+                    o.timeout);
 }
 
 }  // namespace
