@@ -50,10 +50,10 @@ bool away_from_rest(const TrackingFrame& frame, const presence::PoseCopy& copy) 
 
 }  // namespace
 
-AvatarChain chain_of(const presence::RemoteAvatar& avatar, const Pose& T_world_origin) {
+AvatarChain chain_of(const presence::RemoteAvatar& avatar) {
   return {avatar.eye_midpoint(),
           avatar.index_fingertip(),
-          T_world_origin,
+          avatar.T_world_root(),
           true,
           avatar.frame().deictic.T_world_head.translation,
           avatar.frame().deictic.index_tip};
@@ -144,13 +144,12 @@ DeicticSample DeicticObserver::measure(const TrackingFrame& frame, std::uint32_t
   s.sequence = sequence;
   s.target = object.id;
   s.touching = touching;
-  s.avatar =
-      error_of(avatar.eye_midpoint, avatar.fingertip, avatar.T_world_origin, object, touching);
+  s.avatar = error_of(avatar.eye_midpoint, avatar.fingertip, avatar.T_world_root, object, touching);
   s.copy =
       error_of(copy.point(frame.T_world_head.translation), copy.point(frame.index_tip[index(hand)]),
-               avatar.T_world_origin, object, touching);
+               copy.T_world_origin(), object, touching);
   s.network = avatar.has_network ? error_of(avatar.network_head, avatar.network_fingertip,
-                                            avatar.T_world_origin, object, touching)
+                                            avatar.T_world_root, object, touching)
                                  : unmeasured();
   s.ik_fingertip_cm =
       avatar.has_network

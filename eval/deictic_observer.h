@@ -55,11 +55,14 @@ struct DeicticSample {
 };
 
 // What the avatar shows this frame: its eye midpoint H and deictic fingertip (world, after IK),
-// and its root O.
+// and its root O this frame, in which its pointing errors are measured: turned with its body
+// when it turns toward a target (presence/body_turn.h), as the paper measures in the avatar's
+// root. Measured from the spot's unturned facing instead, the vertical error of a target far to
+// the side is ill-conditioned (docs/decisions.md §81).
 struct AvatarChain {
   Vec3 eye_midpoint = Vec3::Zero();
   Vec3 fingertip = Vec3::Zero();
-  Pose T_world_origin;
+  Pose T_world_root;
   // The networks' end-effectors this tick, before IK (the translator's H and fingertip,
   // presence::RemoteAvatar::frame()); without them the sample's `network` is unmeasured.
   bool has_network = false;
@@ -68,15 +71,15 @@ struct AvatarChain {
 };
 
 // A translated avatar's chain this tick: after IK, and the networks' before it.
-AvatarChain chain_of(const presence::RemoteAvatar& avatar, const Pose& T_world_origin);
+AvatarChain chain_of(const presence::RemoteAvatar& avatar);
 
 class DeicticObserver {
  public:
   explicit DeicticObserver(std::size_t capacity);
 
   // One played frame of the remote person (their room), the avatar's chain after this tick, the
-  // copy of the person onto the avatar's root, this room, and the person's room (null until its
-  // map arrives).
+  // copy of the person onto the avatar's spot (measured in its own root), this room, and the
+  // person's room (null until its map arrives).
   void observe(const TrackingFrame& frame, std::uint32_t sequence, double time,
                const AvatarChain& avatar, const presence::PoseCopy& copy, const TargetMap& room,
                const TargetMap* remote_room);

@@ -26,6 +26,14 @@ float wanted_turn(const Pose& T_world_spot, const Vec3* target, float weight, bo
   return std::copysign(turn, azimuth) * std::min(weight, 1.0f);
 }
 
+TurnDesignation turn_designation(const Vec3* hand, TargetId hand_target, float deictic,
+                                 const Vec3* head, TargetId head_target, float gaze) {
+  const bool by_hand =
+      hand != nullptr && (deictic >= gaze || (hand_target == head_target && head != nullptr));
+  const float progression = by_hand ? deictic : gaze;
+  return {by_hand ? hand : head, std::min(1.0f, 2.0f * progression), by_hand};
+}
+
 float turned(float current, float wanted, float dt, const BodyTurnConfig& config) {
   const float step = config.speed_deg_per_s * kRadPerDeg * dt;
   return current + std::clamp(wanted - current, -step, step);

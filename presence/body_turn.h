@@ -11,6 +11,7 @@
 // with it, and every target in front of the spot leaves the avatar where the site placed it.
 
 #include "core/math/pose.h"
+#include "core/target_map.h"
 
 namespace deixis::presence {
 
@@ -31,6 +32,23 @@ struct BodyTurnConfig {
 // the hand (`pointing`) or with the eyes alone.
 float wanted_turn(const Pose& T_world_spot, const Vec3* target, float weight, bool pointing,
                   const BodyTurnConfig& config = {});
+
+// What the body turns for this tick: the target, the weight of its designation and whether the
+// hand designates it (the pointing comfort) or the eyes alone.
+struct TurnDesignation {
+  const Vec3* target = nullptr;
+  float weight = 0.0f;
+  bool pointing = false;
+};
+
+// From last tick's designation: the hand's target (null: none) with MPNet's deictic progression,
+// the eyes' with the gaze progression. The hand's rules while its progression is at least the
+// gaze's, and always when both designate the same target: a person looks at what they point
+// at, and the two progressions end their holds a tick apart, so choosing by which is larger
+// alone turned the body back to the eyes' comfort and forth again mid-gesture (docs/decisions.md
+// §82). The body has turned all the way by the gesture's middle (weight twice the progression).
+TurnDesignation turn_designation(const Vec3* hand, TargetId hand_target, float deictic,
+                                 const Vec3* head, TargetId head_target, float gaze);
 
 // `current` moved toward `wanted` by at most the config's speed over `dt` seconds.
 float turned(float current, float wanted, float dt, const BodyTurnConfig& config = {});

@@ -27,7 +27,8 @@ class PoseCopy {
   // The IK targets of the copy (head, gaze, deictic wrist and fingertip, the other hand).
   ik::AvatarTargets targets(const TrackingFrame& frame) const;
 
-  float scale() const { return scale_; }  // avatar height / user height
+  float scale() const { return scale_; }                          // avatar height / user height
+  const Pose& T_world_origin() const { return T_world_origin_; }  // the copy's root O
   const BodyCalibration& user() const { return user_; }
 
  private:

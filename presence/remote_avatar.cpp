@@ -61,18 +61,13 @@ bool RemoteAvatar::begin_tick(const TrackingFrame* frame, const LocalTargets& ro
 }
 
 void RemoteAvatar::turn_body(const LocalTargets& room) {
-  // Last tick's designation (this tick's progression is known only once the networks have
-  // run): the hand's target while MPNet reads a deictic gesture at least as far along as a gaze
-  // shift, else the eyes'; the body has turned all the way by the gesture's middle.
-  const Vec3* hand = room.find_position(frame_.hand_target);
-  const Vec3* head = room.find_position(frame_.head_target);
-  const float deictic = frame_.progression[1];
-  const float gaze = frame_.progression[0];
-  const bool by_hand = hand != nullptr && deictic >= gaze;
-  const Vec3* target = by_hand ? hand : head;
-  const float weight = frame_.ready ? std::min(1.0f, 2.0f * (by_hand ? deictic : gaze)) : 0.0f;
+  // Last tick's designation (this tick's progression is known only once the networks have run).
+  const TurnDesignation d = turn_designation(
+      room.find_position(frame_.hand_target), frame_.hand_target, frame_.progression[1],
+      room.find_position(frame_.head_target), frame_.head_target, frame_.progression[0]);
+  const float weight = frame_.ready ? d.weight : 0.0f;
   const float wanted =
-      wanted_turn(avatar_origin(*solver_, T_world_floor_), target, weight, by_hand);
+      wanted_turn(avatar_origin(*solver_, T_world_floor_), d.target, weight, d.pointing);
   const float next = turned(turn_, wanted, kTickSeconds);
   if (next == turn_) {
     return;

@@ -71,6 +71,8 @@ class RemoteAvatar {
   const Pose& T_world_model() const { return T_world_model_; }
   // How far the body is turned from the spot's facing (rad, + to the left; body_turn.h).
   float body_turn() const { return turn_; }
+  // The avatar's root O this tick: the spot's, turned with the body (the networks' frame).
+  const Pose& T_world_root() const { return translator_.config().T_world_avatar_root; }
   const ik::AvatarSolver& solver() const { return *solver_; }
 
   // World positions of the avatar's eye midpoint H and deictic index fingertip after IK (what

@@ -307,7 +307,7 @@ void RemotePeople::after_tick(Slot& slot, const PersonFrame& f, const LocalTarge
   slot.stats.frames_played += f.frame != nullptr ? 1 : 0;
   slot.stats.frames_missed += f.frame == nullptr ? 1 : 0;
   if (slot.observer && f.frame != nullptr && avatar.visible() && room.map != nullptr) {
-    const eval::AvatarChain chain = eval::chain_of(avatar, slot.T_world_origin);
+    const eval::AvatarChain chain = eval::chain_of(avatar);
     slot.observer->observe(*f.frame, f.sequence, time, chain, *slot.copy, *room.map, f.remote_map);
     slot.gaze.observe(avatar, *f.frame, room);
   }

@@ -74,7 +74,7 @@ class RemoteMeasure final : public RemotePersonWatcher {
       return;
     }
     last_target_ = frame->hand_target;
-    const eval::AvatarChain chain = eval::chain_of(avatar, origin_);
+    const eval::AvatarChain chain = eval::chain_of(avatar);
     const net::Session& session = peer_->network().session();
     observer_.observe(*frame, p.sequence, now_ - start_, chain, *copy_, a_.site.target_map,
                       session.remote_target_map());

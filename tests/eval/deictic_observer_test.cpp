@@ -194,5 +194,50 @@ TEST(DeicticObserver, TheStagesOfTheChainAreMeasuredAtTheCompletion) {
   EXPECT_TRUE(std::isnan(plain.observer.samples()[0].ik_fingertip_cm));
 }
 
+// A direction from the eyes: azimuth (degrees, + to the right of −Z) and elevation.
+Vec3 direction(float azimuth_deg, float elevation_deg) {
+  const float a = azimuth_deg * kRadPerDeg;
+  const float e = elevation_deg * kRadPerDeg;
+  return {std::sin(a) * std::cos(e), std::sin(e), -std::cos(a) * std::cos(e)};
+}
+
+// An avatar that turned its body toward a cup 80° to its right (presence/body_turn.h) points 3°
+// short of it and 2.8° high: its errors are measured in its turned root, where the vertical error
+// stays what it looks like; in the spot's unturned frame the same pointing reads 16° vertically
+// (docs/decisions.md §81). The copy of the person is measured in its own, unturned root.
+TEST(DeicticObserver, AnAvatarsErrorsAreMeasuredInItsTurnedRoot) {
+  Watch watch(8);
+  const Vec3 eyes = Vec3::Zero();
+  watch.scene.room.objects[0].position = eyes + 2.5f * direction(80.0f, -12.4f);
+  const Pose T_world_turned{yaw_rotation(-36.0f * kRadPerDeg), Vec3::Zero()};  // to its right
+  watch.chain = {eyes, eyes + 0.6f * direction(77.0f, -9.6f), T_world_turned};
+  for (int k = 0; k <= 28; ++k) {
+    watch.play(k, reach_hold_lower_z(k), k * kPeriod, k < 28 ? kCup : kNoTarget);
+  }
+  ASSERT_EQ(watch.observer.samples().size(), 1u);
+  const DeicticSample& s = watch.observer.samples()[0];
+  const Vec3& cup = watch.scene.room.objects[0].position;
+  const auto in = [](const Pose& T_world_root, const Vec3& p) {
+    return transform_point(inverse(T_world_root), p);
+  };
+  const PointingError turned =
+      pointing_error({in(T_world_turned, eyes), in(T_world_turned, watch.chain.fingertip)},
+                     in(T_world_turned, cup));
+  const PointingError spot = pointing_error({eyes, watch.chain.fingertip}, cup);
+  EXPECT_NEAR(s.avatar.horizontal_deg, turned.horizontal_deg, 1e-3);
+  EXPECT_NEAR(s.avatar.vertical_deg, turned.vertical_deg, 1e-3);
+  EXPECT_NEAR(s.avatar.horizontal_deg, spot.horizontal_deg, 1e-3);  // a yaw leaves HE alone
+  EXPECT_LT(s.avatar.vertical_deg, 5.0);
+  EXPECT_GT(spot.vertical_deg, 12.0);
+  // The copy stands on the spot unturned: its root is the copy's, identity here.
+  const TrackingFrame last = frame_at(21, reach_hold_lower_z(21));
+  const PointingError copy =
+      pointing_error({watch.scene.copy.point(last.T_world_head.translation),
+                      watch.scene.copy.point(last.index_tip[index(Hand::kRight)])},
+                     cup);
+  EXPECT_NEAR(s.copy.vertical_deg, copy.vertical_deg, 1e-3);
+  EXPECT_NEAR(s.copy.horizontal_deg, copy.horizontal_deg, 1e-3);
+}
+
 }  // namespace
 }  // namespace deixis::eval

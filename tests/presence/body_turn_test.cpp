@@ -57,6 +57,30 @@ TEST(BodyTurn, TheTurnFollowsTheDesignationAndNothingTurnsNothing) {
   EXPECT_EQ(wanted_turn(s.T_world_spot, &above, 1.0f, true), 0.0f);
 }
 
+// The designation the body turns for. A person pointing at a cup looks at it too; as the hold
+// ends the deictic progression falls a tick before the gaze's (0.99 against 1.00, live rooms
+// seed 60613, pair 15), which must not hand the turn to the eyes' wider comfort for that tick.
+TEST(BodyTurn, TheHandRulesWhenItAndTheEyesDesignateTheSameTarget) {
+  const Vec3 cup(2, 1, -1);
+  const Vec3 person(-2, 1.6f, -1);
+  const TurnDesignation same = turn_designation(&cup, 7, 0.99f, &cup, 7, 1.0f);
+  EXPECT_TRUE(same.pointing);
+  EXPECT_EQ(same.target, &cup);
+  EXPECT_FLOAT_EQ(same.weight, 1.0f);
+  // Looking at someone else while the hand is still low: the eyes rule.
+  const TurnDesignation other = turn_designation(&cup, 7, 0.2f, &person, 0, 0.9f);
+  EXPECT_FALSE(other.pointing);
+  EXPECT_EQ(other.target, &person);
+  EXPECT_FLOAT_EQ(other.weight, 1.0f);
+  // A hand ahead of the eyes rules whatever they look at; its weight is twice its progression.
+  const TurnDesignation ahead = turn_designation(&cup, 7, 0.3f, &person, 0, 0.1f);
+  EXPECT_TRUE(ahead.pointing);
+  EXPECT_FLOAT_EQ(ahead.weight, 0.6f);
+  // A hand target this room lacks leaves the eyes; nothing designated turns nothing.
+  EXPECT_EQ(turn_designation(nullptr, 7, 1.0f, &person, 0, 0.5f).target, &person);
+  EXPECT_EQ(turn_designation(nullptr, kNoTarget, 0.0f, nullptr, kNoTarget, 0.0f).target, nullptr);
+}
+
 TEST(BodyTurn, TurnsAtBoundedSpeed) {
   const BodyTurnConfig config;
   const float dt = 1.0f / 30.0f;
