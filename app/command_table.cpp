@@ -596,6 +596,14 @@ void add_xr(CLI::App& program, const Invocation&, std::vector<Runner>& runners) 
                   "Show every remote person wearing this avatar, whatever they chose (a local "
                   "override; default: their chosen avatar, else the site's own)")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--blend", o.blend,
+                  "Environment blend mode: auto prefers alpha (passthrough), then additive "
+                  "(see-through), then opaque, among those the headset offers. In alpha and "
+                  "additive only the remote people's avatars are drawn, over the real room; "
+                  "in opaque, this site's virtual room too. Exit 1 if the headset lacks the "
+                  "mode asked for")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "opaque", "alpha", "additive"}));
   runners.push_back({cmd, [xr] {
                        XrRunOptions& r = xr->options;
                        if (!live_session_ready("xr", xr->pass, r)) {

@@ -185,6 +185,7 @@ struct XrRunOptions {
   float height = 0.0f;                  // m; 0: from the eye height at calibration
   std::filesystem::path avatar;         // the user's chosen avatar, offered to the people met
   std::filesystem::path remote_avatar;  // what every remote person wears here; empty: their choice
+  std::string blend = "auto";           // xr/blend_mode.h: auto, opaque, alpha or additive
 };
 int run_xr(const XrRunOptions& options);
 

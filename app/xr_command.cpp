@@ -32,6 +32,7 @@
 #include "site/recorded_user.h"
 #include "site/site_config.h"
 #include "site/site_session.h"
+#include "xr/blend_mode.h"
 #include "xr/frame_loop.h"
 #include "xr/gl_context.h"
 #include "xr/gl_session.h"
@@ -94,10 +95,12 @@ struct NetworkSetup {
 class XrSink final : public xr::FrameSink {
  public:
   // `mesh`: what remote people wear unless they wear their own.
+  // `see_through`: the headset shows the real room (xr/blend_mode.h), so only avatars are drawn.
   XrSink(const site::SiteConfig& site, render::Renderer& renderer, const avatar::SkinnedMesh& mesh,
-         const Vec3& remote_head_at_rest)
+         const Vec3& remote_head_at_rest, bool see_through)
       : site_(site),
         renderer_(renderer),
+        see_through_(see_through),
         meshes_(renderer, mesh),
         remote_head_(remote_head_at_rest) {
     avatars_.reserve(site.spots.size());  // one per spot: every remote person at once
@@ -128,6 +131,8 @@ class XrSink final : public xr::FrameSink {
                    const render::RenderTarget& target) override {
     render::SceneView view;
     view.camera = camera;
+    view.show_floor = !see_through_;
+    view.show_targets = !see_through_;
     avatars_.clear();
     for (const presence::RemoteAvatar* avatar : shown_avatars()) {
       // Their choice, the override, else the site's; not drawn when more different avatars came
@@ -271,6 +276,7 @@ class XrSink final : public xr::FrameSink {
 
   const site::SiteConfig& site_;
   render::Renderer& renderer_;
+  bool see_through_;
   render::SkinnedMeshCache meshes_;  // the site's avatar and those people chose, uploaded once
   Vec3 remote_head_;
   std::optional<LocalRemote> local_;
@@ -335,23 +341,33 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
                                      .T_world_floor = remote_floor,
                                      .mirrored = site::translated_mirrored(person.deictic_hand)});
   }
-  xr::Instance instance(xr::InstanceOptions{o.headless, true, true, "deixis xr"});
+  xr::Instance instance(
+      xr::InstanceOptions{o.headless, true, true, "deixis xr", *xr::parse_blend_choice(o.blend)});
+  const XrEnvironmentBlendMode blend = instance.view_config().blend_mode;
   // The context the OpenXR session binds to, by what the runtime offers (EGL, else a hidden
   // GLFW window's GLX context: xr/gl_context.h); the views go to the swapchains.
   const std::unique_ptr<render::Context> context = xr::make_gl_context(instance);
-  render::Renderer renderer;
+  // See-through: cleared to transparent black, which ALPHA_BLEND shows as the real room and
+  // ADDITIVE adds nothing to.
+  render::Renderer renderer(xr::see_through(blend)
+                                ? render::RendererOptions{.background = render::Colour(0, 0, 0, 0)}
+                                : render::RendererOptions{});
   renderer.set_targets(a.site.target_map);
   const avatar::SkinnedMesh& mesh =
       local_avatar && override_avatar ? override_avatar->avatar.mesh : a.avatar.mesh;
   std::printf("OpenXR: %s; hand tracking %s, eye gaze %s\n", instance.description().c_str(),
               instance.features().hand_tracking ? "yes" : "no (controller poses)",
               instance.features().eye_gaze ? "yes" : "no (the head's forward, estimated)");
+  std::printf("blend mode %s%s\n", xr::blend_mode_name(blend),
+              xr::see_through(blend) ? " (see-through: the avatars only, over the real room)"
+                                     : " (the virtual room)");
   xr::GlSession session(instance);
   xr::Swapchains swapchains(instance, session);
   xr::Input input(instance, session);
   xr::FrameLoop loop(instance, session, swapchains, input);
   XrSink sink(a.site, renderer, mesh,
-              presence::avatar_origin(local_solver, remote_floor).translation);
+              presence::avatar_origin(local_solver, remote_floor).translation,
+              xr::see_through(blend));
   if (local_avatar) {
     sink.use_local({*a.remote, *local_avatar});
   } else {

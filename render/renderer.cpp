@@ -18,7 +18,8 @@ void begin_frame(const RenderTarget& target, const RendererOptions& options) {
   glFrontFace(GL_CCW);
   glCullFace(GL_BACK);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  glClearColor(options.background.x(), options.background.y(), options.background.z(), 1.0f);
+  glClearColor(options.background.x(), options.background.y(), options.background.z(),
+               options.background.w());
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 }

@@ -39,7 +39,7 @@ struct SceneView {
 };
 
 struct RendererOptions {
-  Colour background = Colour(0.62f, 0.72f, 0.82f, 1.0f);
+  Colour background = Colour(0.62f, 0.72f, 0.82f, 1.0f);  // alpha 0: see-through (xr/blend_mode.h)
   Colour floor_colour = Colour(0.45f, 0.46f, 0.47f, 1.0f);
   Colour grid_colour = Colour(0.28f, 0.29f, 0.30f, 1.0f);
   float floor_height = 0.0f;                                    // m, world y of the floor

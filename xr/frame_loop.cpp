@@ -110,6 +110,7 @@ void FrameLoop::frame(FrameSink& sink, FrameLoopResult& result) {
   sink.on_frame(info, user);
 
   auto layer = make<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
+  layer.layerFlags = projection_layer_flags(instance_->view_config().blend_mode);
   const XrCompositionLayerBaseHeader* layers[] = {
       reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer)};
   std::uint32_t layer_count = 0;

@@ -149,7 +149,9 @@ Instance::Instance(const InstanceOptions& options) {
     if (modes == 0) {
       throw Error("the OpenXR system offers no environment blend mode");
     }
-    view_config_.blend_mode = blend[0];  // the runtime's preferred one comes first
+    blend.resize(modes);
+    view_config_.blend_modes = blend;
+    view_config_.blend_mode = choose_blend_mode(blend, options.blend);
   } catch (...) {
     xrDestroyInstance(instance_);
     throw;

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "xr/blend_mode.h"
+
 namespace deixis::xr {
 
 // XR_CHECK(instance, call): throws deixis::Error "xrFoo(...) failed: XR_ERROR_... (file:line)"
@@ -35,6 +37,7 @@ struct InstanceOptions {
   bool hand_tracking = true;  // XR_EXT_hand_tracking where offered (else controller poses)
   bool eye_gaze = true;       // XR_EXT_eye_gaze_interaction where offered
   std::string application = "deixis";
+  BlendChoice blend = BlendChoice::kAuto;  // which environment blend mode (xr/blend_mode.h)
 };
 
 // What the instance enabled and the system supports.
@@ -49,7 +52,8 @@ struct Features {
 struct ViewConfig {
   std::uint32_t count = 0;
   std::vector<XrViewConfigurationView> views;  // recommended sizes per view
-  XrEnvironmentBlendMode blend_mode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+  XrEnvironmentBlendMode blend_mode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;  // the one chosen
+  std::vector<XrEnvironmentBlendMode> blend_modes;  // what the system offers, in its order
 };
 
 class Instance {
