@@ -12,11 +12,13 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/commands.h"
 #include "app/defaults.h"
 #include "core/io/text_rules.h"
 #include "site/endpoint.h"
+#include "xr/blend_mode.h"
 
 namespace deixis::app {
 
@@ -603,7 +605,8 @@ void add_xr(CLI::App& program, const Invocation&, std::vector<Runner>& runners) 
                   "in opaque, this site's virtual room too. Exit 1 if the headset lacks the "
                   "mode asked for")
       ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "opaque", "alpha", "additive"}));
+      ->check(CLI::IsMember(
+          std::vector<std::string>(xr::kBlendChoiceNames.begin(), xr::kBlendChoiceNames.end())));
   runners.push_back({cmd, [xr] {
                        XrRunOptions& r = xr->options;
                        if (!live_session_ready("xr", xr->pass, r)) {

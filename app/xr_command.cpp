@@ -344,12 +344,13 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   xr::Instance instance(
       xr::InstanceOptions{o.headless, true, true, "deixis xr", *xr::parse_blend_choice(o.blend)});
   const XrEnvironmentBlendMode blend = instance.view_config().blend_mode;
+  const bool see_through = xr::see_through(blend);
   // The context the OpenXR session binds to, by what the runtime offers (EGL, else a hidden
   // GLFW window's GLX context: xr/gl_context.h); the views go to the swapchains.
   const std::unique_ptr<render::Context> context = xr::make_gl_context(instance);
   // See-through: cleared to transparent black, which ALPHA_BLEND shows as the real room and
   // ADDITIVE adds nothing to.
-  render::Renderer renderer(xr::see_through(blend)
+  render::Renderer renderer(see_through
                                 ? render::RendererOptions{.background = render::Colour(0, 0, 0, 0)}
                                 : render::RendererOptions{});
   renderer.set_targets(a.site.target_map);
@@ -358,16 +359,15 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   std::printf("OpenXR: %s; hand tracking %s, eye gaze %s\n", instance.description().c_str(),
               instance.features().hand_tracking ? "yes" : "no (controller poses)",
               instance.features().eye_gaze ? "yes" : "no (the head's forward, estimated)");
-  std::printf("blend mode %s%s\n", xr::blend_mode_name(blend),
-              xr::see_through(blend) ? " (see-through: the avatars only, over the real room)"
-                                     : " (the virtual room)");
+  std::printf(
+      "blend mode %s%s\n", xr::blend_mode_name(blend),
+      see_through ? " (see-through: the avatars only, over the real room)" : " (the virtual room)");
   xr::GlSession session(instance);
   xr::Swapchains swapchains(instance, session);
   xr::Input input(instance, session);
   xr::FrameLoop loop(instance, session, swapchains, input);
   XrSink sink(a.site, renderer, mesh,
-              presence::avatar_origin(local_solver, remote_floor).translation,
-              xr::see_through(blend));
+              presence::avatar_origin(local_solver, remote_floor).translation, see_through);
   if (local_avatar) {
     sink.use_local({*a.remote, *local_avatar});
   } else {

@@ -24,14 +24,11 @@ std::string offered_names(std::span<const XrEnvironmentBlendMode> offered) {
 }  // namespace
 
 std::optional<BlendChoice> parse_blend_choice(std::string_view text) {
-  if (text == "auto")
-    return BlendChoice::kAuto;
-  if (text == "opaque")
-    return BlendChoice::kOpaque;
-  if (text == "alpha")
-    return BlendChoice::kAlpha;
-  if (text == "additive")
-    return BlendChoice::kAdditive;
+  for (std::size_t i = 0; i < kBlendChoiceNames.size(); ++i) {
+    if (text == kBlendChoiceNames[i]) {
+      return static_cast<BlendChoice>(i);
+    }
+  }
   return std::nullopt;
 }
 

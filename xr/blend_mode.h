@@ -6,6 +6,7 @@
 
 #include <openxr/openxr.h>
 
+#include <array>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -14,7 +15,11 @@ namespace deixis::xr {
 
 enum class BlendChoice { kAuto, kOpaque, kAlpha, kAdditive };
 
-// "auto", "opaque", "alpha", "additive" (the --blend values); nullopt for anything else.
+// The --blend values, in BlendChoice's order.
+inline constexpr std::array<std::string_view, 4> kBlendChoiceNames = {"auto", "opaque", "alpha",
+                                                                      "additive"};
+
+// One of kBlendChoiceNames; nullopt for anything else.
 std::optional<BlendChoice> parse_blend_choice(std::string_view text);
 
 // "opaque", "alpha", "additive" (the --blend spelling of a mode).

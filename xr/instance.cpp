@@ -150,7 +150,6 @@ Instance::Instance(const InstanceOptions& options) {
       throw Error("the OpenXR system offers no environment blend mode");
     }
     blend.resize(modes);
-    view_config_.blend_modes = blend;
     view_config_.blend_mode = choose_blend_mode(blend, options.blend);
   } catch (...) {
     xrDestroyInstance(instance_);

@@ -53,7 +53,6 @@ struct ViewConfig {
   std::uint32_t count = 0;
   std::vector<XrViewConfigurationView> views;  // recommended sizes per view
   XrEnvironmentBlendMode blend_mode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;  // the one chosen
-  std::vector<XrEnvironmentBlendMode> blend_modes;  // what the system offers, in its order
 };
 
 class Instance {
