@@ -607,6 +607,10 @@ void add_xr(CLI::App& program, const Invocation&, std::vector<Runner>& runners) 
       ->capture_default_str()
       ->check(CLI::IsMember(
           std::vector<std::string>(xr::kBlendChoiceNames.begin(), xr::kBlendChoiceNames.end())));
+  cmd->add_flag("--no-panel", o.no_panel,
+                "Hide the presence panel (shown head-locked below the line of sight while "
+                "networked: each remote person's link, round trip, jitter-buffer delay and "
+                "frames dropped in the last 5 s)");
   runners.push_back({cmd, [xr] {
                        XrRunOptions& r = xr->options;
                        if (!live_session_ready("xr", xr->pass, r)) {

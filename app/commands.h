@@ -186,6 +186,7 @@ struct XrRunOptions {
   std::filesystem::path avatar;         // the user's chosen avatar, offered to the people met
   std::filesystem::path remote_avatar;  // what every remote person wears here; empty: their choice
   std::string blend = "auto";           // xr/blend_mode.h: auto, opaque, alpha or additive
+  bool no_panel = false;                // hide the head-locked presence panel
 };
 int run_xr(const XrRunOptions& options);
 

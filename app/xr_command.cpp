@@ -29,6 +29,7 @@
 #include "render/renderer.h"
 #include "site/live_peer.h"
 #include "site/moe_weights.h"
+#include "site/presence_panel.h"
 #include "site/recorded_user.h"
 #include "site/site_config.h"
 #include "site/site_session.h"
@@ -96,11 +97,13 @@ class XrSink final : public xr::FrameSink {
  public:
   // `mesh`: what remote people wear unless they wear their own.
   // `see_through`: the headset shows the real room (xr/blend_mode.h), so only avatars are drawn.
+  // `panel`: the head-locked presence panel is shown while networked.
   XrSink(const site::SiteConfig& site, render::Renderer& renderer, const avatar::SkinnedMesh& mesh,
-         const Vec3& remote_head_at_rest, bool see_through)
+         const Vec3& remote_head_at_rest, bool see_through, bool panel)
       : site_(site),
         renderer_(renderer),
         see_through_(see_through),
+        show_panel_(panel),
         meshes_(renderer, mesh),
         remote_head_(remote_head_at_rest) {
     avatars_.reserve(site.spots.size());  // one per spot: every remote person at once
@@ -134,16 +137,23 @@ class XrSink final : public xr::FrameSink {
     view.show_floor = !see_through_;
     view.show_targets = !see_through_;
     avatars_.clear();
-    for (const presence::RemoteAvatar* avatar : shown_avatars()) {
+    for (const site::DrawnAvatar& drawn : shown_avatars()) {
       // Their choice, the override, else the site's; not drawn when more different avatars came
       // than the cache holds.
-      const std::optional<render::SkinnedMeshId> mesh =
-          meshes_.get(peer_ ? peer_->people().worn_mesh(*avatar) : nullptr);
+      const std::optional<render::SkinnedMeshId> mesh = meshes_.get(drawn.mesh);
       if (mesh && avatars_.size() < avatars_.capacity()) {
-        avatars_.push_back({*mesh, avatar->T_world_model(), avatar->model_pose()});
+        avatars_.push_back(
+            {*mesh, drawn.avatar->T_world_model(), drawn.avatar->model_pose(), drawn.opacity});
       }
     }
     view.avatars = avatars_;
+    if (peer_ && show_panel_) {
+      // Head-locked: below the line of sight, facing the eyes (docs/xr.md "Presence panel").
+      head_panel_.T_world_panel = compose(user_head_pose_, kHeadPanel);
+      head_panel_.lines = panel_.lines();
+      head_panel_.line_height = kPanelLineHeight;
+      view.panel = &head_panel_;
+    }
     renderer_.render(view, target);
   }
 
@@ -155,6 +165,8 @@ class XrSink final : public xr::FrameSink {
     if (!peer_) {
       return;
     }
+    panel_.update(now, *peer_, true);
+    panel_lines_.assign(panel_.lines().begin(), panel_.lines().end());
     std::array<site::LivePerson, 16> people;
     const std::size_t n = peer_->list_people(people);
     for (std::size_t k = 0; k < n; ++k) {
@@ -193,6 +205,9 @@ class XrSink final : public xr::FrameSink {
             p.site.c_str(), static_cast<unsigned long long>(p.frames_played),
             static_cast<unsigned long long>(p.visible_ticks), p.avatar.c_str(), p.avatar_joints);
       }
+      for (const std::string& line : panel_lines_) {  // the presence panel as it was last
+        std::printf("panel: %s\n", line.c_str());
+      }
     }
   }
 
@@ -200,6 +215,7 @@ class XrSink final : public xr::FrameSink {
   void count_tracking(const TrackingFrame& user) {
     if ((user.valid & tracked::kHead) != 0) {
       user_head_ = user.T_world_head.translation;
+      user_head_pose_ = user.T_world_head;
     }
     for (std::size_t part = 0; part < valid_counts_.size(); ++part) {
       valid_counts_[part] += (user.valid & (1u << part)) != 0 ? 1 : 0;
@@ -239,6 +255,9 @@ class XrSink final : public xr::FrameSink {
       visible_ticks_ += peer_->visible().empty() ? 0 : 1;
       ++ticks_;
     }
+    if (peer_) {
+      panel_.update(frame.seconds, *peer_);
+    }
   }
 
   // The user stands upright when the session starts: their calibration goes in the hello.
@@ -258,13 +277,16 @@ class XrSink final : public xr::FrameSink {
     std::fflush(stdout);
   }
 
-  std::span<const presence::RemoteAvatar* const> shown_avatars() {
+  // The networked people's avatars (fading ones too), else the headset user's own translated.
+  std::span<const site::DrawnAvatar> shown_avatars() {
     if (peer_) {
-      return peer_->visible();
+      return peer_->drawn();
     }
-    local_shown_ = local_ && local_->avatar.visible() ? &local_->avatar : nullptr;
-    return local_shown_ != nullptr ? std::span(&local_shown_, 1)
-                                   : std::span<const presence::RemoteAvatar* const>();
+    if (!local_ || !local_->avatar.visible()) {
+      return {};
+    }
+    local_shown_ = site::DrawnAvatar{&local_->avatar, nullptr, 1.0f};
+    return std::span(&local_shown_, 1);
   }
 
   struct PersonLine {
@@ -277,18 +299,27 @@ class XrSink final : public xr::FrameSink {
   const site::SiteConfig& site_;
   render::Renderer& renderer_;
   bool see_through_;
+  bool show_panel_;
   render::SkinnedMeshCache meshes_;  // the site's avatar and those people chose, uploaded once
   Vec3 remote_head_;
   std::optional<LocalRemote> local_;
   std::optional<NetworkSetup> network_;
   std::optional<site::LivePeer> peer_;
   std::vector<PersonLine> people_;  // who was there when the session closed
-  const presence::RemoteAvatar* local_shown_ = nullptr;
+  site::DrawnAvatar local_shown_{};
   TargetSelector selector_;
   site::SiteClock clock_;
   double wall_at_first_frame_ = 0.0;         // the wall clock at display time 0
   std::vector<render::AvatarDraw> avatars_;  // this view's, one per spot at most
   Vec3 user_head_ = Vec3(0, 1.6f, 0);
+  Pose user_head_pose_{};
+  // The presence panel 0.55 m ahead of the eyes and 0.2 m below them (20° down, out of the way of
+  // what the user looks at), facing them; lines 2 cm tall (2°: about 40 px on a current headset).
+  static inline const Pose kHeadPanel{Mat3::Identity(), Vec3(0.0f, -0.2f, -0.55f)};
+  static constexpr float kPanelLineHeight = 0.02f;
+  site::PresencePanel panel_;
+  render::HeadPanel head_panel_;
+  std::vector<std::string> panel_lines_;  // the panel's last lines, for the summary
   std::uint64_t ticks_ = 0;
   std::uint64_t visible_ticks_ = 0;
   std::array<std::uint64_t, 4> valid_counts_{};  // head, gaze, left hand, right hand
@@ -367,7 +398,8 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   xr::Input input(instance, session);
   xr::FrameLoop loop(instance, session, swapchains, input);
   XrSink sink(a.site, renderer, mesh,
-              presence::avatar_origin(local_solver, remote_floor).translation, see_through);
+              presence::avatar_origin(local_solver, remote_floor).translation, see_through,
+              !o.no_panel);
   if (local_avatar) {
     sink.use_local({*a.remote, *local_avatar});
   } else {

@@ -86,6 +86,10 @@ std::uint16_t RelayClient::local_port() const {
   return link_->port();
 }
 
+std::uint32_t RelayClient::round_trip_ms() const {
+  return connected_ && peer_ != kNoPeer ? link_->round_trip_ms(peer_) : 0;
+}
+
 void RelayClient::attempt(double now) {
   ++stats_.attempts;
   connected_ = false;

@@ -141,6 +141,8 @@ class RelayClient {
   bool connected() const { return welcomed_; }  // the relay's welcome was accepted
   bool stopped() const { return stopped_; }     // a final refusal, or close()
   std::uint16_t local_port() const;
+  // ENet's round-trip estimate to the relay in ms (0 while not connected).
+  std::uint32_t round_trip_ms() const;
   const RelayClientStats& stats() const { return stats_; }
   const DropCounters& drops() const { return drop_log_.counters(); }
   // Leave politely, flush (≤ 0.5 s). The client stays stopped.

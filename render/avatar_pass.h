@@ -1,7 +1,10 @@
 #pragma once
 // Skinned avatars, skinned on the GPU: per draw, the joint matrices T_world_model ×
 // T_model_joint × inverse bind are composed on the CPU (tens of joints) and sent in one slot of a
-// uniform buffer; shaders/mesh.vert blends up to four per vertex.
+// uniform buffer; shaders/mesh.vert blends up to four per vertex. Opaque avatars are drawn first;
+// one with opacity below 1 then gets a depth-only pass and a blended pass (premultiplied colour,
+// so a see-through headset's layer gets the right alpha), which shows only its nearest surface:
+// a fading avatar looks like a fading body, not a glass one with its far arm showing through.
 
 #include <span>
 #include <vector>
@@ -26,6 +29,9 @@ class AvatarPass {
 
  private:
   void reserve_slots(std::size_t count);
+  // Composes and uploads avatar a's joint matrices into its slot and binds them and its mesh.
+  const GpuSkinnedMesh& bind(std::size_t a, const AvatarDraw& avatar);
+  void draw_primitives(const GpuSkinnedMesh& mesh, float opacity) const;
 
   LitProgram lit_;
   std::vector<GpuSkinnedMesh> meshes_;

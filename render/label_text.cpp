@@ -9,25 +9,19 @@
 namespace deixis::render {
 namespace {
 
-// stb_easy_font's vertex record (stb_easy_font.h): x, y, z as floats, then RGBA bytes.
-struct EasyFontVertex {
-  float x, y, z;
-  unsigned char rgba[4];
-};
-static_assert(sizeof(EasyFontVertex) == 16);
+static_assert(sizeof(FontVertex) == 16);
 
 constexpr float kPadding = 2.0f;  // font pixels of backing plate around the glyphs
 
 // stb_easy_font indexes its glyph table with (char − 32) unchecked, so only printable ASCII may
 // reach it; a newline would start a second line, which a label does not have.
-std::string printable(std::string_view text) {
-  std::string out(text);
+void printable(std::string_view text, std::string& out) {
+  out.assign(text);
   for (char& c : out) {
     if (c < 32 || c > 126) {
       c = '?';
     }
   }
-  return out;
 }
 
 OverlayVertex vertex(float x, float y, const Colour& colour) {
@@ -44,12 +38,20 @@ void append_rectangle(std::vector<OverlayVertex>& out, float x0, float y0, float
 
 LabelExtent append_label(std::string_view text, const Colour& text_colour,
                          const Colour& backing_colour, std::vector<OverlayVertex>& vertices) {
-  std::string line = printable(text);
+  LabelScratch scratch;
+  return append_label(text, text_colour, backing_colour, vertices, scratch);
+}
+
+LabelExtent append_label(std::string_view text, const Colour& text_colour,
+                         const Colour& backing_colour, std::vector<OverlayVertex>& vertices,
+                         LabelScratch& scratch) {
+  std::string& line = scratch.line;
+  printable(text, line);
   // ~270 bytes per character on average (stb_easy_font.h); give it room for the worst glyphs.
-  std::vector<EasyFontVertex> quads(line.size() * 64 + 64);
-  const int quad_count =
-      stb_easy_font_print(0.0f, 0.0f, line.data(), nullptr, quads.data(),
-                          static_cast<int>(quads.size() * sizeof(EasyFontVertex)));
+  std::vector<FontVertex>& quads = scratch.quads;
+  quads.resize(line.size() * 64 + 64);
+  const int quad_count = stb_easy_font_print(0.0f, 0.0f, line.data(), nullptr, quads.data(),
+                                             static_cast<int>(quads.size() * sizeof(FontVertex)));
   quads.resize(static_cast<std::size_t>(quad_count) * 4);
 
   // stb's y grows downwards; label space's grows upwards.
@@ -57,7 +59,7 @@ LabelExtent append_label(std::string_view text, const Colour& text_colour,
   float max_x = std::numeric_limits<float>::lowest();
   float min_y = std::numeric_limits<float>::max();
   float max_y = std::numeric_limits<float>::lowest();
-  for (EasyFontVertex& v : quads) {
+  for (FontVertex& v : quads) {
     v.y = -v.y;
     min_x = std::min(min_x, v.x);
     max_x = std::max(max_x, v.x);
@@ -76,8 +78,8 @@ LabelExtent append_label(std::string_view text, const Colour& text_colour,
   extent.first = static_cast<GLint>(vertices.size());
   append_rectangle(vertices, -0.5f * width, 0.0f, 0.5f * width, height, backing_colour);
   for (std::size_t q = 0; q < quads.size(); q += 4) {
-    const EasyFontVertex& a = quads[q];
-    const EasyFontVertex& c = quads[q + 2];
+    const FontVertex& a = quads[q];
+    const FontVertex& c = quads[q + 2];
     append_rectangle(vertices, a.x + shift_x, a.y + shift_y, c.x + shift_x, c.y + shift_y,
                      text_colour);
   }

@@ -4,6 +4,7 @@
 // x = 0 with the bottom of a dark backing plate at y = 0. The renderer places each label as a
 // billboard above its object (render/renderer.cpp).
 
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -24,5 +25,19 @@ struct LabelExtent {
 // writes off needs no depth offset.
 LabelExtent append_label(std::string_view text, const Colour& text_colour,
                          const Colour& backing_colour, std::vector<OverlayVertex>& vertices);
+
+// Buffers append_label works in. A caller that rebuilds labels often keeps one, so that once
+// they have grown to its longest text no rebuild allocates (vertices kept with their capacity).
+struct FontVertex {  // stb_easy_font's vertex record (stb_easy_font.h): x, y, z, RGBA bytes
+  float x, y, z;
+  unsigned char rgba[4];
+};
+struct LabelScratch {
+  std::string line;               // the text, printable
+  std::vector<FontVertex> quads;  // stb_easy_font's output
+};
+LabelExtent append_label(std::string_view text, const Colour& text_colour,
+                         const Colour& backing_colour, std::vector<OverlayVertex>& vertices,
+                         LabelScratch& scratch);
 
 }  // namespace deixis::render

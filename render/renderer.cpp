@@ -81,6 +81,16 @@ void Renderer::render(const SceneView& view, const RenderTarget& target) {
     glDepthMask(GL_FALSE);
     targets_.draw_labels(camera, view_projection, overlay_, options_);
   }
+  if (view.panel != nullptr) {
+    // Over everything; colour blended over the scene, alpha accumulated, so a see-through
+    // layer's premultiplied alpha stays right where the plates are.
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    panel_.draw(*view.panel, view_projection, overlay_, options_);
+    glEnable(GL_DEPTH_TEST);
+  }
   end_frame();
 }
 

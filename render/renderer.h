@@ -11,6 +11,7 @@
 #include "render/avatar_pass.h"
 #include "render/floor_pass.h"
 #include "render/line_pass.h"
+#include "render/panel_pass.h"
 #include "render/render_target.h"
 #include "render/scene.h"
 #include "render/target_pass.h"
@@ -44,6 +45,7 @@ class Renderer {
   AvatarPass avatars_;
   OverlayProgram overlay_;
   LinePass lines_;
+  PanelPass panel_;
 };
 
 }  // namespace deixis::render

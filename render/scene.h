@@ -5,6 +5,7 @@
 // came from: interpolating between 30 Hz ticks is the caller's (render/pose_blend.h helps).
 
 #include <span>
+#include <string_view>
 
 #include "core/target_map.h"
 #include "render/camera.h"
@@ -21,6 +22,9 @@ struct AvatarDraw {
   SkinnedMeshId mesh;
   Pose T_world_model;                   // where the avatar's model frame is in the room
   std::span<const Pose> T_model_joint;  // one per skeleton joint (ik::local_to_model)
+  // 1: opaque. Below 1 the avatar is blended over what is behind it (a remote person's avatar
+  // fading in or out, site/remote_people.h), its own nearest surface only.
+  float opacity = 1.0f;
 };
 
 struct DebugLine {  // e.g. the eye–fingertip ray
@@ -29,13 +33,23 @@ struct DebugLine {  // e.g. the eye–fingertip ray
   Colour colour = Colour(1.0f, 0.9f, 0.1f, 1.0f);
 };
 
+// Lines of text fixed in front of the viewer (a headset's head-locked panel, docs/xr.md
+// "Presence panel"): the caller places it each frame from the head's pose; it is drawn over
+// everything else, left-aligned, each line on a dark plate.
+struct HeadPanel {
+  Pose T_world_panel;  // its centre; lines in its x-y plane (x right, y up), read from +z
+  std::span<const std::string_view> lines;  // top first; at most PanelPass::kMaxLines
+  float line_height = 0.016f;               // m per line, plate included
+};
+
 struct SceneView {
   Camera camera;
   std::span<const AvatarDraw> avatars;
   std::span<const DebugLine> lines;
   bool show_floor = true;
   bool show_targets = true;
-  bool show_labels = true;  // the targets' names
+  bool show_labels = true;           // the targets' names
+  const HeadPanel* panel = nullptr;  // drawn over everything when set
 };
 
 struct RendererOptions {

@@ -85,6 +85,10 @@ std::span<const presence::RemoteAvatar* const> SimNetwork::visible_avatars() con
   return peer_ ? peer_->visible() : std::span<const presence::RemoteAvatar* const>();
 }
 
+std::span<const site::DrawnAvatar> SimNetwork::drawn_avatars() const {
+  return peer_ ? peer_->drawn() : std::span<const site::DrawnAvatar>();
+}
+
 const site::LivePeerStats& SimNetwork::stats() const {
   return peer_ ? peer_->stats() : stats_;
 }

@@ -41,8 +41,10 @@ class SimNetwork {
 
   // Whether the session is on: false once it failed or was left.
   bool running() const { return peer_.has_value(); }
-  // The other people's avatars to draw in this room; none while hidden or once not running.
+  // The other people's live avatars in this room; none while hidden or once not running.
   std::span<const presence::RemoteAvatar* const> visible_avatars() const;
+  // What to draw of them: the live avatars and those fading in or out (site/remote_people.h).
+  std::span<const site::DrawnAvatar> drawn_avatars() const;
   const site::LivePeerStats& stats() const;
   bool in_room() const { return std::holds_alternative<site::RoomPeerOptions>(options_); }
   // The remote people of the running session (running() only).

@@ -1,6 +1,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <array>
 
 #include "sim/sim_panel_parts.h"
 
@@ -23,16 +24,23 @@ void line(std::string_view text, bool failed, PanelWidgets* widgets, std::string
   }
 }
 
+// Each remote person's link as the headset's panel says it (site/link_health.h): live or not,
+// round trip, jitter-buffer delay, frames dropped in the last seconds.
+void people_links(const PanelNetwork& n, PanelWidgets* widgets) {
+  std::array<char, 160> text{};
+  for (const site::LivePerson& p : n.people) {
+    site::format_link_line(p.site, p.link, text);
+    ImGui::BulletText("%s", text.data());
+    note(widgets, "person link");
+  }
+}
+
 // A room's members: each one's site and whether their avatar is shown now.
 void room_people(const PanelNetwork& n, PanelWidgets* widgets) {
   ImGui::TextWrapped("Room %.*s: tracking sent %llu, %zu here", static_cast<int>(n.room.size()),
                      n.room.data(), static_cast<unsigned long long>(n.sent), n.people.size());
   note(widgets, "network counts");
-  for (const site::LivePerson& p : n.people) {
-    ImGui::BulletText("%.*s: %s, %llu frames", static_cast<int>(p.site.size()), p.site.data(),
-                      p.live ? "live" : "not live",
-                      static_cast<unsigned long long>(p.frames_played));
-  }
+  people_links(n, widgets);
 }
 
 // Role, address, who came and what flows, the state; Leave ends it (the form comes back).
@@ -49,6 +57,7 @@ void session_state(const PanelNetwork& n, PanelActions& a, PanelWidgets* widgets
                        static_cast<unsigned long long>(n.sent),
                        static_cast<unsigned long long>(n.played));
     note(widgets, "network counts");
+    people_links(n, widgets);
   }
   a.leave_network = button("Leave", widgets);
   ImGui::SameLine();

@@ -443,13 +443,12 @@ class Sim {
       lines_.push_back(eye_ray(e.T_world_head.translation, e.index_tip, user_target->position));
     }
     if (network_) {
-      for (const presence::RemoteAvatar* other : network_->visible_avatars()) {
+      for (const site::DrawnAvatar& other : network_->drawn_avatars()) {
         // What they wear here (their choice, the override, else A's avatar); not drawn when
         // more different avatars came than the cache holds.
-        const std::optional<render::SkinnedMeshId> mesh =
-            local_meshes_.get(network_->people_here().worn_mesh(*other));
+        const std::optional<render::SkinnedMeshId> mesh = local_meshes_.get(other.mesh);
         if (mesh && avatars_.size() < avatars_.capacity()) {
-          add_avatar(*other, *mesh, a_.a.target_map);
+          add_avatar(*other.avatar, *mesh, a_.a.target_map, other.opacity);
         }
       }
     }
@@ -466,8 +465,8 @@ class Sim {
 
   // A translated avatar, with its eye–fingertip ray toward its room's copy while it points.
   void add_avatar(const presence::RemoteAvatar& avatar, render::SkinnedMeshId mesh,
-                  const TargetMap& room) {
-    avatars_.push_back({mesh, avatar.T_world_model(), avatar.model_pose()});
+                  const TargetMap& room, float opacity = 1.0f) {
+    avatars_.push_back({mesh, avatar.T_world_model(), avatar.model_pose(), opacity});
     const TargetObject* target = room.find(avatar.frame().hand_target);
     if (target != nullptr && avatar.frame().progression[1] > kRayShownAbove) {
       lines_.push_back(eye_ray(avatar.eye_midpoint(), avatar.index_fingertip(), target->position));

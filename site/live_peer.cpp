@@ -58,6 +58,7 @@ LivePeer::LivePeer(const LivePeerOptions& options, const SiteConfig& site,
       host_(std::holds_alternative<SitePeerOptions>(options) &&
             std::get<SitePeerOptions>(options).role == net::Role::kHost) {
   stats_.peer_site.reserve(kSitesReserved);
+  links_.resize(people().capacity());
 }
 
 std::uint16_t LivePeer::port() const {
@@ -75,13 +76,13 @@ bool LivePeer::connected() const {
 void LivePeer::tick(const TrackingFrame& user, double sampled, double now,
                     const LocalTargets& room) {
   std::visit([&](auto& peer) { peer.tick(user, sampled, now, room); }, peer_);
-  refresh();
+  refresh(now);
   stats_.visible_ticks += visible().empty() ? 0 : 1;
 }
 
 void LivePeer::poll(double now) {
   std::visit([&](auto& peer) { peer.poll(now); }, peer_);
-  refresh();
+  refresh(now);
 }
 
 void LivePeer::close(double now) {
@@ -132,7 +133,8 @@ std::size_t LivePeer::list_people(std::span<LivePerson> out) const {
                           s->frames_played,
                           s->visible_ticks,
                           worn != nullptr ? avatar_source_name(worn->source) : "default",
-                          avatar != nullptr ? avatar->solver().joint_count() : 0};
+                          avatar != nullptr ? avatar->solver().joint_count() : 0,
+                          link_of(s->spot, live)};
   };
   if (const RoomPeer* room = std::get_if<RoomPeer>(&peer_)) {
     for (const net::MemberId id : room->session().people()) {
@@ -161,7 +163,8 @@ PersonId LivePeer::person_on_spot(std::size_t spot) const {
   return on_spot(SitePeer::kDirectPerson) ? SitePeer::kDirectPerson : kNoPerson;
 }
 
-void LivePeer::refresh() {
+void LivePeer::refresh(double now) {
+  watch_links(now);
   if (const SitePeer* direct = std::get_if<SitePeer>(&peer_)) {
     direct_visible_ = direct->visible_avatar();
     const SitePeerStats& s = direct->stats();
@@ -195,6 +198,47 @@ void LivePeer::refresh() {
       sites.push_back('?');
     }
   }
+}
+
+// Each spot's window follows whoever stands there; another person (or nobody) starts it over.
+void LivePeer::watch_links(double now) {
+  for (std::size_t spot = 0; spot < links_.size(); ++spot) {
+    SpotLink& link = links_[spot];
+    const PersonId person = person_on_spot(spot);
+    if (person != link.person) {
+      link.person = person;
+      link.window.reset();
+    }
+    if (person == kNoPerson) {
+      continue;
+    }
+    const net::JitterStats* jitter = nullptr;
+    if (const RoomPeer* room = std::get_if<RoomPeer>(&peer_)) {
+      jitter = room->session().jitter(person);
+    } else {
+      jitter = &std::get<SitePeer>(peer_).network().session().jitter();
+    }
+    if (jitter != nullptr) {
+      link.window.update(now, *jitter);
+    }
+  }
+}
+
+LinkFigures LivePeer::link_of(std::size_t spot, bool live) const {
+  LinkFigures f = spot < links_.size() ? links_[spot].window.figures() : LinkFigures{};
+  const PersonStats* s = spot < links_.size() ? people().stats(links_[spot].person) : nullptr;
+  f.state = live                                   ? LinkState::kLive
+            : s != nullptr && s->frames_played > 0 ? LinkState::kStalled
+                                                   : LinkState::kWaiting;
+  if (const RoomPeer* room = std::get_if<RoomPeer>(&peer_)) {
+    f.via_relay = true;
+    if (room->relay().connected()) {
+      f.round_trip_ms = room->relay().round_trip_ms();
+    }
+  } else if (const SitePeer& direct = std::get<SitePeer>(peer_); direct.streaming()) {
+    f.round_trip_ms = direct.network().session().status().round_trip_ms;
+  }
+  return f;
 }
 
 }  // namespace deixis::site

@@ -15,9 +15,11 @@
 #include <string>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 #include "core/target_map.h"
 #include "gesture/target_selection.h"
+#include "site/link_health.h"
 #include "site/room_peer.h"
 #include "site/site_peer.h"
 
@@ -46,6 +48,7 @@ struct LivePerson {
   std::uint64_t visible_ticks = 0;
   std::string_view avatar = "default";  // what they wear here (avatar_source_name)
   int avatar_joints = 0;                // its skeleton's joints
+  LinkFigures link{};                   // how their link is doing (site/link_health.h)
 };
 
 class LivePeer {
@@ -75,8 +78,10 @@ class LivePeer {
   // Says bye (at most 0.5 s); idempotent.
   void close(double now);
 
-  // The avatars to draw this tick, in spot order.
+  // The live avatars this tick, in spot order.
   std::span<const presence::RemoteAvatar* const> visible() const;
+  // What to draw this tick, in spot order: the live avatars and those fading in or out.
+  std::span<const DrawnAvatar> drawn() const { return people().drawn(); }
   const RemotePeople& people() const;
   // What a live user may designate here (gesture/target_selection.h): this room's objects, and
   // the other person of a direct session at `partner_head` (their avatar's eyes when shown) or,
@@ -91,13 +96,24 @@ class LivePeer {
   const LivePeerStats& stats() const { return stats_; }
 
  private:
-  void refresh();  // the runtime's figures into stats_, the direct avatar shown
+  // The runtime's figures into stats_, the direct avatar shown, each person's link window.
+  void refresh(double now);
+  void watch_links(double now);
+  // How the link of the person on `spot` is doing (`live`: their avatar is shown).
+  LinkFigures link_of(std::size_t spot, bool live) const;
+
+  // One per avatar spot: the link window of whoever stands there.
+  struct SpotLink {
+    PersonId person = kNoPerson;
+    LinkWindow window;
+  };
 
   std::variant<SitePeer, RoomPeer> peer_;
   bool host_ = false;  // a direct session's host
   LivePeerStats stats_;
   std::size_t sites_listed_ = 0;  // people present when stats_.peer_site was last listed
   const presence::RemoteAvatar* direct_visible_ = nullptr;  // the direct session's avatar, if shown
+  std::vector<SpotLink> links_;                             // sized at construction
   Vec3 partner_head_ = Vec3::Zero();
   bool closed_ = false;
 };

@@ -66,7 +66,8 @@ struct RemotePeople::Slot {
   Pose T_world_origin;  // the spot's avatar root O
   bool taken = false;
   bool live = false;
-  bool queued = false;  // in tick()'s current round
+  bool queued = false;   // in tick()'s current round
+  float opacity = 0.0f;  // as drawn; an avatar kept after its person left fades out (a ghost)
   PersonStats stats;
   BodyCalibration body;                         // the person's, from their hello
   std::shared_ptr<const PersonAvatar> wearing;  // null: the site's default
@@ -87,6 +88,7 @@ RemotePeople::RemotePeople(const SiteConfig& site, const std::array<MoeNetworks,
   }
   targets_.reserve(slots_.size() + 1);
   visible_.reserve(slots_.size());
+  drawn_.reserve(slots_.size());
   round_.reserve(slots_.size());
   const MoeNetworks& right = networks[static_cast<std::size_t>(index(Hand::kRight))];
   buffers_.reserve(slots_.size(), right.mpnet, right.ugnet);
@@ -123,6 +125,7 @@ const presence::RemoteAvatar& RemotePeople::meet(PersonId id, const net::Hello& 
                   "'s person (add spots to remote_avatar.spots)");
     }
     slot = free->get();
+    slot->opacity = 0.0f;  // a newcomer fades in, not from where a ghost on the spot was
     ++present_;
   }
   // A new hello naming the file they wear already (a reconnect, a new calibration) keeps it.
@@ -138,6 +141,7 @@ const presence::RemoteAvatar& RemotePeople::meet(PersonId id, const net::Hello& 
   slot->stats = PersonStats{id, hello.site, slot->stats.spot};
   dress(*slot);
   ++record_of(hello.site).stays;
+  list_visible();  // the fresh avatar is not posed yet: neither list may show it
   return *slot->avatar;
 }
 
@@ -226,19 +230,44 @@ void RemotePeople::leave(PersonId id) {
   fold_into_record(*slot);
   slot->taken = false;
   slot->live = false;
-  slot->wearing = nullptr;
-  slot->avatar.reset();
   slot->copy.reset();
   slot->observer.reset();
   --present_;
-  list_visible();  // gone from the drawing at once, not at the next end_tick()
+  list_visible();  // gone from the live ones at once; its avatar fades out (step_fades)
 }
 
+// Lists the live avatars and those drawn. Called whenever an avatar is replaced or let go, so
+// neither list points at an avatar that is not posed.
 void RemotePeople::list_visible() {
   visible_.clear();
+  drawn_.clear();
   for (const auto& slot : slots_) {
     if (slot->taken && slot->live && slot->avatar->visible()) {
       visible_.push_back(&*slot->avatar);
+    }
+    if (slot->avatar && slot->avatar->visible() && slot->opacity > 0.0f) {
+      drawn_.push_back(
+          {&*slot->avatar, slot->wearing ? &slot->wearing->avatar.mesh : nullptr, slot->opacity});
+    }
+  }
+}
+
+// One tick of every avatar's fade: up towards 1 while it is live, down towards 0 otherwise; the
+// avatar of a person who left is let go once it has faded out.
+void RemotePeople::step_fades() {
+  constexpr float kIn = 1.0f / kFadeInTicks;
+  constexpr float kOut = 1.0f / kFadeOutTicks;
+  for (const auto& slot : slots_) {
+    if (!slot->avatar) {
+      continue;
+    }
+    const bool shown = slot->taken && slot->live && slot->avatar->visible();
+    // Snapped at the ends, so that rounding leaves no step of 1e-8 to draw.
+    const float next = shown ? slot->opacity + kIn : slot->opacity - kOut;
+    slot->opacity = next > 1.0f - 0.5f * kIn ? 1.0f : next < 0.5f * kOut ? 0.0f : next;
+    if (!slot->taken && slot->opacity == 0.0f) {
+      slot->avatar.reset();
+      slot->wearing = nullptr;
     }
   }
 }
@@ -362,6 +391,7 @@ void RemotePeople::interrupt(PersonId id) {
 }
 
 void RemotePeople::end_tick() {
+  step_fades();
   list_visible();
   for (const auto& slot : slots_) {
     if (slot->taken && slot->live && slot->avatar->visible()) {

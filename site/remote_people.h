@@ -14,8 +14,11 @@
 //   room.people = people_targets(self, own_head);
 //   tick() a batch of due frames, one per person (null: missed), the networks batched across
 //   people — or play() one person's;
-//   end_tick() counts visible ticks; visible() lists the avatars to draw.
-// Once everyone has met, nothing here allocates per tick.
+//   end_tick() counts visible ticks and steps the fades; visible() lists the live avatars,
+//   drawn() what to draw with each one's opacity.
+// Avatars fade rather than pop (decision 84): one whose stream stops, or whose person leaves,
+// fades out in kFadeOutTicks holding its last pose; one that comes (back) fades in over
+// kFadeInTicks. Once everyone has met, nothing here allocates per tick.
 
 #include <array>
 #include <cstdint>
@@ -65,6 +68,14 @@ struct PersonStats {
   std::uint64_t visible_ticks = 0;  // ticks their avatar was shown
 };
 
+// An avatar to draw this tick: live, fading in, or fading out (a stream that stopped, a person
+// who left) in its last pose. `mesh`: what it wears, null for the site's default.
+struct DrawnAvatar {
+  const presence::RemoteAvatar* avatar = nullptr;
+  const avatar::SkinnedMesh* mesh = nullptr;
+  float opacity = 1.0f;  // (0, 1]
+};
+
 // One person's frame for a tick. `frame` null: their frame was due and did not come (missed).
 struct PersonFrame {
   PersonId person = kNoPerson;
@@ -87,7 +98,8 @@ class RemotePeople {
   // there under `id` (a new hello: they reconnected, or changed) keeps their spot and gets a fresh
   // avatar. Throws deixis::Error naming the site file when every spot is taken, or for id 0/255.
   const presence::RemoteAvatar& meet(PersonId id, const net::Hello& hello);
-  // Person `id` left: their avatar goes and their spot is free. Unknown ids are ignored.
+  // Person `id` left: their spot is free, their avatar fades out where it stood (until someone
+  // else takes the spot). Unknown ids are ignored.
   void leave(PersonId id);
   // Person `id` wears `avatar` from now on (null: the site's default again): their avatar starts
   // over with its rig and solver on the same spot (hidden until their next frame); nobody else's
@@ -120,7 +132,7 @@ class RemotePeople {
   void set_live(PersonId id, bool live);
   // The stream of `id` stopped: a hold the observer was following ends.
   void interrupt(PersonId id);
-  // The tick is over: counts visible ticks and lists the visible avatars.
+  // The tick is over: counts visible ticks, steps the fades, lists the visible and the drawn.
   void end_tick();
   // The run is over: holds in progress end (before records()).
   void finish();
@@ -131,6 +143,11 @@ class RemotePeople {
   const presence::RemoteAvatar* avatar(PersonId id) const;
   // Visible avatars, in spot order, as of the last end_tick() (what the view draws).
   std::span<const presence::RemoteAvatar* const> visible() const { return visible_; }
+  // What to draw, in spot order, as of the last end_tick(): the visible avatars and those fading
+  // in or out, each with its opacity and mesh.
+  std::span<const DrawnAvatar> drawn() const { return drawn_; }
+  static constexpr int kFadeInTicks = 8;    // 0.27 s at 30 Hz
+  static constexpr int kFadeOutTicks = 15;  // 0.5 s
   // The person of a site name present now (kNoPerson: nobody of that name).
   PersonId find_site(std::string_view site) const;
   const PersonStats* stats(PersonId id) const;
@@ -149,6 +166,7 @@ class RemotePeople {
   void dress(Slot& slot);
   void fold_into_record(Slot& slot);
   void list_visible();
+  void step_fades();
   void after_tick(Slot& slot, const PersonFrame& frame, const LocalTargets& room, double time);
   void run_round(std::span<const PersonFrame> frames, const LocalTargets& room, double time);
 
@@ -162,6 +180,7 @@ class RemotePeople {
   std::vector<presence::PersonTick> round_;  // tick(): this round's avatars and frames
   presence::PeopleTickBuffers buffers_;
   std::vector<const presence::RemoteAvatar*> visible_;
+  std::vector<DrawnAvatar> drawn_;
   std::vector<PersonRecord> records_;  // of people who left (present people are added on read)
 };
 

@@ -217,9 +217,11 @@ class ScriptedSite {
           with_ray(user, copied.T_world_head.translation, copied.index_tip, user_target->position);
     }
     remote_pictures_.clear();  // capacity: one per spot, reserved at construction
-    for (const presence::RemoteAvatar* avatar : visible_avatars()) {
+    for (const DrawnAvatar& drawn : peer_.people().drawn()) {
+      const presence::RemoteAvatar* avatar = drawn.avatar;
       AvatarPicture remote{avatar->T_world_model(), avatar->model_pose()};
-      remote.mesh = peer_.people().worn_mesh(*avatar);
+      remote.mesh = drawn.mesh;
+      remote.opacity = drawn.opacity;
       const TargetObject* target = a_.site.target_map.find(avatar->frame().hand_target);
       if (target != nullptr && avatar->frame().progression[1] > kRayShownAbove) {
         remote =
@@ -231,16 +233,6 @@ class ScriptedSite {
     view_->draw(user, remote_pictures_);
     const std::chrono::duration<double, std::milli> took = std::chrono::steady_clock::now() - t0;
     push(record_.render_ms, took.count());
-  }
-
-  std::span<const presence::RemoteAvatar* const> visible_avatars() {
-    if constexpr (kRoom) {
-      return peer_.people().visible();
-    } else {
-      direct_visible_ = peer_.visible_avatar();
-      return direct_visible_ != nullptr ? std::span(&direct_visible_, 1)
-                                        : std::span<const presence::RemoteAvatar* const>();
-    }
   }
 
   SiteRecord finish(double end) {
@@ -318,7 +310,6 @@ class ScriptedSite {
   SiteRecord record_;
   RemoteMeasure measure_;
   std::vector<AvatarPicture> remote_pictures_;  // this tick's visible remote avatars
-  const presence::RemoteAvatar* direct_visible_ = nullptr;
   std::uint64_t ticks_ = 0;
   double start_ = 0.0;
 };

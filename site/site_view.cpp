@@ -69,7 +69,7 @@ void SiteView::draw_view(std::span<const AvatarPicture> pictures, int column) {
     if (!mesh) {
       continue;
     }
-    avatars_.push_back({*mesh, picture.T_world_model, picture.T_model_joint});
+    avatars_.push_back({*mesh, picture.T_world_model, picture.T_model_joint, picture.opacity});
     if (picture.show_ray) {
       render::DebugLine& line = lines_.emplace_back();
       line.from = picture.ray_from;

@@ -35,6 +35,7 @@ struct AvatarPicture {
   Vec3 ray_from = Vec3::Zero();
   Vec3 ray_to = Vec3::Zero();
   const avatar::SkinnedMesh* mesh = nullptr;
+  float opacity = 1.0f;  // below 1: fading in or out (site/remote_people.h)
 };
 
 // The camera a site's configuration frames its room with, for an image of width × height.

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <memory>
 #include <optional>
+#include <string_view>
+#include <vector>
 
 #include "core/error.h"
 #include "render/headless_context.h"
@@ -220,6 +222,153 @@ TEST_F(HeadlessRenderTest, LabelsAreDrawnAboveTheirObjects) {
   // The text is nowhere but above its object.
   EXPECT_EQ(count_pixels(labelled, whole(labelled), is_text),
             count_pixels(labelled, above, is_text));
+}
+
+// A remote person's avatar fading in or out (site/remote_people.h) is blended over what is
+// behind it by its opacity: half-way, each pixel is half the opaque avatar's and half the
+// background's; at 0 nothing is drawn.
+TEST_F(HeadlessRenderTest, AFadingAvatarIsBlendedOverWhatIsBehindIt) {
+  const std::vector<Pose> pose = arm_pose(skeleton_, Mat3::Identity(), Mat3::Identity());
+  const auto render_at = [&](float opacity) {
+    const AvatarDraw avatar{arm_, Pose{}, pose, opacity};
+    SceneView view = bare_view();
+    view.avatars = {&avatar, 1};
+    renderer_->render(view, context_->target());
+    return read_pixels(context_->target());
+  };
+  const Image opaque = render_at(1.0f);
+  const Image half = render_at(0.5f);
+  const Image gone = render_at(0.0f);
+  const Rgb background = to_rgb(renderer_->options().background);
+  int blended = 0;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      const Rgb o = opaque.pixel(x, y);
+      const Rgb h = half.pixel(x, y);
+      ASSERT_TRUE(near(gone.pixel(x, y), background, 1)) << x << "," << y;
+      if (near(o, background, 2)) {
+        ASSERT_TRUE(near(h, background, 2)) << x << "," << y;
+        continue;
+      }
+      const Rgb expected{static_cast<std::uint8_t>((o[0] + background[0] + 1) / 2),
+                         static_cast<std::uint8_t>((o[1] + background[1] + 1) / 2),
+                         static_cast<std::uint8_t>((o[2] + background[2] + 1) / 2)};
+      blended += near(h, expected, 3) ? 1 : 0;
+    }
+  }
+  const int area = foreground_in(opaque, whole(opaque));
+  ASSERT_GT(area, 400);
+  EXPECT_GT(blended, area * 95 / 100) << "of " << area << " avatar pixels";
+}
+
+// Over a see-through headset's transparent background the blended avatar carries its opacity as
+// alpha, with premultiplied colour (what ALPHA_BLEND composites, xr/blend_mode.h).
+TEST_F(HeadlessRenderTest, AFadingAvatarOverTransparentBlackCarriesItsOpacityAsAlpha) {
+  renderer_.emplace(RendererOptions{.background = Colour(0, 0, 0, 0)});
+  arm_ = renderer_->add_skinned_mesh(arm_mesh(skeleton_));
+  const std::vector<Pose> pose = arm_pose(skeleton_, Mat3::Identity(), Mat3::Identity());
+  const AvatarDraw avatar{arm_, Pose{}, pose, 0.4f};
+  SceneView view = bare_view();
+  view.avatars = {&avatar, 1};
+  renderer_->render(view, context_->target());
+  std::vector<std::uint8_t> rgba(static_cast<std::size_t>(kWidth) * kHeight * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, context_->target().framebuffer);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, kWidth, kHeight, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  int covered = 0;
+  for (std::size_t i = 0; i < rgba.size(); i += 4) {
+    const int alpha = rgba[i + 3];
+    if (alpha == 0) {
+      EXPECT_EQ(rgba[i] + rgba[i + 1] + rgba[i + 2], 0);
+      continue;
+    }
+    ++covered;
+    EXPECT_NEAR(alpha, 102, 2);  // 0.4 × 255
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_LE(rgba[i + static_cast<std::size_t>(k)], alpha + 1) << "premultiplied";
+    }
+  }
+  EXPECT_GT(covered, 400) << covered;
+}
+
+// The head-locked panel (render/scene.h, HeadPanel): its lines are drawn over everything where
+// it is placed (here 0.6 m ahead of the camera, in front of the arm), left-aligned on dark
+// plates, and nothing of it elsewhere; other text redraws it.
+TEST_F(HeadlessRenderTest, TheHeadPanelIsDrawnOverEverythingWherePlaced) {
+  const Camera camera = front_camera();
+  const std::vector<Pose> pose = arm_pose(skeleton_, Mat3::Identity(), Mat3::Identity());
+  const AvatarDraw avatar{arm_, Pose{}, pose};
+  SceneView view = bare_view();
+  view.avatars = {&avatar, 1};
+  const std::string_view long_lines[] = {"Deixis: connected, 1 person here",
+                                         "B: live, rtt 3 ms, buffer 50 ms, dropped 0 of 150"};
+  HeadPanel panel;
+  panel.T_world_panel = compose(camera.T_world_eye, Pose{Mat3::Identity(), Vec3(0, 0, -0.6f)});
+  panel.lines = long_lines;
+  panel.line_height = 0.03f;
+  view.panel = &panel;
+  const RendererOptions& options = renderer_->options();
+  const auto is_text = [&](const Rgb& p) { return near(p, to_rgb(options.label_text), 8); };
+  const auto is_plate = [&](const Rgb& p) {
+    // The backing colour at its alpha over the background.
+    const Colour b = options.label_backing;
+    const Colour bg = options.background;
+    const Colour over = b * b.w() + bg * (1.0f - b.w());
+    return near(p, to_rgb(over), 6);
+  };
+  renderer_->render(view, context_->target());
+  const Image with_panel = read_pixels(context_->target());
+  // Two lines 0.03 m each at 0.6 m: about 30 px tall around the centre.
+  const Vec2 centre = *project_to_pixel(camera, kWidth, kHeight, panel.T_world_panel.translation);
+  const Region around{static_cast<int>(centre.x()) - kWidth / 2, static_cast<int>(centre.y()) - 20,
+                      static_cast<int>(centre.x()) + kWidth / 2, static_cast<int>(centre.y()) + 20};
+  EXPECT_GT(count_pixels(with_panel, around, is_text), 150);
+  EXPECT_GT(count_pixels(with_panel, around, is_plate), 1000);
+  EXPECT_EQ(count_pixels(with_panel, whole(with_panel), is_text),
+            count_pixels(with_panel, around, is_text))
+      << "text only where the panel is";
+  // Over the arm, which is nearer nothing than the panel is: the arm's pixel behind the panel
+  // is darkened by the plate (or is text), not the arm's own.
+  const Vec3 on_arm = kShoulder + Vec3(0.05f, 0, 0);
+  view.panel = nullptr;
+  renderer_->render(view, context_->target());
+  const Rgb arm_alone = pixel_at(read_pixels(context_->target()), camera, on_arm);
+  view.panel = &panel;
+  const Rgb arm_under = pixel_at(with_panel, camera, on_arm);
+  const auto sum = [](const Rgb& p) { return int{p[0]} + int{p[1]} + int{p[2]}; };
+  EXPECT_TRUE(is_text(arm_under) || sum(arm_under) < sum(arm_alone) / 2)
+      << sum(arm_under) << " vs " << sum(arm_alone);
+
+  // Left-aligned: both lines start at the same column, the shorter ends sooner.
+  const auto first_column = [&](const Image& image, int y0, int y1) {
+    for (int x = 0; x < kWidth; ++x) {
+      if (count_pixels(image, Region{x, y0, x + 1, y1}, is_plate) > 0) {
+        return x;
+      }
+    }
+    return -1;
+  };
+  const int cy = static_cast<int>(centre.y());
+  const int top_start = first_column(with_panel, cy - 14, cy - 2);
+  const int bottom_start = first_column(with_panel, cy + 2, cy + 14);
+  ASSERT_GE(top_start, 0);
+  EXPECT_NEAR(top_start, bottom_start, 1);
+
+  // Other text: redrawn (one short line has far less text), and none without a panel.
+  const std::string_view short_line[] = {"ok"};
+  panel.lines = short_line;
+  renderer_->render(view, context_->target());
+  const Image short_panel = read_pixels(context_->target());
+  EXPECT_LT(count_pixels(short_panel, whole(short_panel), is_text),
+            count_pixels(with_panel, whole(with_panel), is_text) / 5);
+  EXPECT_GT(count_pixels(short_panel, whole(short_panel), is_text), 5);
+  view.panel = nullptr;
+  renderer_->render(view, context_->target());
+  const Image no_panel = read_pixels(context_->target());
+  EXPECT_EQ(count_pixels(no_panel, whole(no_panel), is_text), 0);
+  EXPECT_EQ(count_pixels(no_panel, whole(no_panel), is_plate), 0);
 }
 
 TEST_F(HeadlessRenderTest, FloorFillsTheLowerHalfOnly) {

@@ -227,7 +227,8 @@ TEST_F(SimPanelTest, TheNetworkSectionIsAFormUntilASessionRuns) {
   status_.network = &room;
   frame();
   frame();
-  expect_drawn({"network", "network counts", "network state", "Leave"});
+  // Each person's link, as the headset's presence panel says it (site/link_health.h).
+  expect_drawn({"network", "network counts", "person link", "network state", "Leave"});
   EXPECT_EQ(widgets_.find("Start"), nullptr);
   EXPECT_TRUE(click("Leave").leave_network);
 

@@ -6,8 +6,9 @@
 // site's). Ticks are paced to the wall clock, as the front ends' are. After a warm-up (entering,
 // hellos and target maps, each avatar built and shown), 150 ticks of each peer — each also asking
 // what a front end asks every tick: the avatars to draw, the people present, the selection's
-// candidates — make zero heap allocations in this thread. ENet's own allocations go through its
-// allocator hook, past the counter, as in site_peer_allocation_test. Not built under ASan.
+// candidates, the presence panel's lines — make zero heap allocations in this thread. ENet's own
+// allocations go through its allocator hook, past the counter, as in site_peer_allocation_test. Not
+// built under ASan.
 
 #include <enet/enet.h>
 #include <gtest/gtest.h>
@@ -24,14 +25,11 @@
 #include <vector>
 
 #include "allocation_counter.h"
-#include "avatar/avatar_loader.h"
-#include "capture/subject.h"
-#include "capture/virtual_user.h"
+#include "live_peer_fixtures.h"
 #include "net/enet_link.h"
-#include "net/relay_server.h"
-#include "presence/remote_avatar.h"
 #include "site/live_peer.h"
 #include "site/moe_weights.h"
+#include "site/presence_panel.h"
 #include "site/site_config.h"
 #include "test_support.h"
 
@@ -42,6 +40,9 @@ void __libc_free(void* pointer);
 
 namespace deixis::site {
 namespace {
+
+using fixtures::RelayThread;
+using fixtures::Site;
 
 constexpr double kTick = 1.0 / 30.0;
 constexpr int kCountedTicks = 150;
@@ -56,53 +57,6 @@ void* enet_allocate(std::size_t size) {
 void enet_release(void* memory) {
   __libc_free(memory);
 }
-
-// One site: its configuration, avatar solver and its user's 30 Hz tracking.
-struct Site {
-  SiteConfig config;
-  ik::AvatarSolver solver;
-  BodyCalibration body;
-  std::vector<TrackingFrame> frames;
-
-  explicit Site(const std::string& name)
-      : config(read_site_config(deixis::testing::source_dir() / "assets/sites" / name)),
-        solver(ik::AvatarSolver::build(avatar::load_avatar(config.avatar_path).rig)) {
-    const Pose partner = presence::avatar_origin(solver, config.remote_avatar.T_world_floor());
-    const capture::VirtualUserScene scene{config.user.T_world_floor(), config.target_map.objects,
-                                          partner.translation};
-    const VirtualUser& user = *config.virtual_user;
-    capture::ScriptPerformance performed = capture::perform_script(
-        capture::find_subject(user.subject), user.script, scene, user.seed, 30.0);
-    body = performed.sequence.calibration;
-    frames = std::move(performed.sequence.frames);
-  }
-  const TrackingFrame& frame(std::size_t tick) const { return frames[tick % frames.size()]; }
-};
-
-// A relay serving on a thread of its own until destroyed.
-class RelayThread {
- public:
-  RelayThread()
-      : link_(net::EnetLink::host("127.0.0.1", 0, net::HostLimits{64, 64})),
-        relay_(*link_, net::RelayServerConfig{}),
-        thread_([this] {
-          const SiteClock clock;
-          while (!stop_) {
-            relay_.service(clock.now(), 1);
-          }
-        }) {}
-  ~RelayThread() {
-    stop_ = true;
-    thread_.join();
-  }
-  std::uint16_t port() const { return link_->port(); }
-
- private:
-  std::unique_ptr<net::EnetLink> link_;
-  net::RelayServer relay_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
-};
 
 class LivePeerHotPath : public ::testing::TestWithParam<bool> {};
 
@@ -130,6 +84,7 @@ TEST_P(LivePeerHotPath, TicksAllocateNothingOnceEveryoneIsThere) {
   LivePeer pb(options(false, room ? relay->port() : pa.port()), b.config, b.body, networks,
               b.solver, WornAvatars{}, clock.now());
   std::array<LivePerson, 4> listed;
+  PresencePanel panel;  // what deixis xr shows, rebuilt every tick here (it allows every 0.5 s)
   std::size_t tick = 0;
   std::size_t asked = 0;  // what the front ends read each tick, so that it is not optimised away
   const auto step = [&] {
@@ -141,7 +96,9 @@ TEST_P(LivePeerHotPath, TicksAllocateNothingOnceEveryoneIsThere) {
       asked += candidates.people.size();
       const double now = clock.now();
       peer->tick(user, now, now, LocalTargets{&site->config.target_map, head});
-      asked += peer->visible().size() + peer->list_people(listed);
+      asked += peer->visible().size() + peer->drawn().size() + peer->list_people(listed);
+      panel.update(now, *peer, true);
+      asked += panel.lines().size();
     }
     ++tick;
     std::this_thread::sleep_until(std::chrono::steady_clock::now() +

@@ -531,6 +531,90 @@ TEST(RemotePeople, ScriptedPeopleResolveToWhoeverOfThatSiteIsHere) {
   EXPECT_EQ(h.head_target, kNoTarget);
 }
 
+// Avatars fade rather than pop (decision 84): a person's avatar fades in over kFadeInTicks once
+// posed; when their stream stops it stays drawn, holding its last pose, fading out over
+// kFadeOutTicks; when it comes back it fades in again. A person who leaves fades out where they
+// stood; a newcomer on that spot replaces the fading avatar and fades in from nothing.
+TEST(RemotePeople, AvatarsFadeInAndOutRatherThanPopping) {
+  const SiteConfig a = site_config("a.json");
+  const Performer b("b.json", {step(Action::kPoint, 1, 1.0f)}, {}, {});
+  RemotePeople people(a, shared().networks, shared().solver);
+  people.meet(1, hello("B", b.body()));
+  const LocalTargets room{&a.target_map, Vec3(0, 1.6f, 0)};
+  std::size_t i = 0;
+  const auto tick = [&](bool streaming) {  // a stopped stream plays nothing
+    if (streaming) {
+      people.play(PersonFrame{1, &b.frame(i++)}, room);
+    }
+    people.end_tick();
+  };
+  const auto opacity = [&] { return people.drawn().empty() ? 0.0f : people.drawn()[0].opacity; };
+  EXPECT_TRUE(people.drawn().empty()) << "not posed yet";
+  for (int k = 1; k <= RemotePeople::kFadeInTicks; ++k) {
+    tick(true);
+    ASSERT_EQ(people.visible().size(), 1u);
+    EXPECT_FLOAT_EQ(opacity(), static_cast<float>(k) / RemotePeople::kFadeInTicks) << k;
+  }
+  tick(true);
+  EXPECT_EQ(opacity(), 1.0f);
+  EXPECT_EQ(people.drawn()[0].avatar, people.avatar(1));
+  EXPECT_EQ(people.drawn()[0].mesh, nullptr) << "the site's default avatar";
+
+  // The stream stops: not live at once, drawn fading in its last pose.
+  people.set_live(1, false);
+  const Pose held = people.avatar(1)->T_world_model();
+  const std::vector<Pose> held_joints(people.avatar(1)->model_pose().begin(),
+                                      people.avatar(1)->model_pose().end());
+  for (int k = RemotePeople::kFadeOutTicks - 1; k >= 1; --k) {
+    tick(false);
+    EXPECT_TRUE(people.visible().empty());
+    ASSERT_EQ(people.drawn().size(), 1u) << k;
+    EXPECT_NEAR(opacity(), static_cast<float>(k) / RemotePeople::kFadeOutTicks, 1e-6f) << k;
+    EXPECT_TRUE(people.drawn()[0].avatar->T_world_model().translation.isApprox(held.translation));
+  }
+  EXPECT_TRUE(
+      std::equal(held_joints.begin(), held_joints.end(), people.avatar(1)->model_pose().begin(),
+                 [](const Pose& x, const Pose& y) { return x.translation == y.translation; }))
+      << "held where it was";
+  tick(false);
+  EXPECT_TRUE(people.drawn().empty()) << "faded out";
+
+  // Back: fades in again.
+  people.set_live(1, true);
+  tick(true);
+  EXPECT_FLOAT_EQ(opacity(), 1.0f / RemotePeople::kFadeInTicks);
+  for (int k = 0; k < RemotePeople::kFadeInTicks; ++k) {
+    tick(true);
+  }
+  EXPECT_EQ(opacity(), 1.0f);
+
+  // Leaving: the spot is free and the avatar fades out where it stood.
+  const presence::RemoteAvatar* leaving = people.avatar(1);
+  people.leave(1);
+  EXPECT_EQ(people.avatar(1), nullptr);
+  EXPECT_EQ(people.size(), 0u);
+  people.end_tick();
+  ASSERT_EQ(people.drawn().size(), 1u);
+  EXPECT_EQ(people.drawn()[0].avatar, leaving);
+  EXPECT_LT(opacity(), 1.0f);
+  people.end_tick();
+  // A newcomer takes the spot before the fade ends: the fading avatar goes, theirs fades in.
+  people.meet(2, hello("C", b.body()));
+  EXPECT_EQ(people.stats(2)->spot, 0u);
+  EXPECT_TRUE(people.drawn().empty()) << "the newcomer is not posed yet";
+  people.play(PersonFrame{2, &b.frame(0)}, room);
+  people.end_tick();
+  ASSERT_EQ(people.drawn().size(), 1u);
+  EXPECT_EQ(people.drawn()[0].avatar, people.avatar(2));
+  EXPECT_FLOAT_EQ(opacity(), 1.0f / RemotePeople::kFadeInTicks);
+  // And when nobody comes, a departed person's avatar is let go once faded out.
+  people.leave(2);
+  for (int k = 0; k < RemotePeople::kFadeOutTicks; ++k) {
+    people.end_tick();
+  }
+  EXPECT_TRUE(people.drawn().empty());
+}
+
 TEST(RemotePeople, RecordsSumAPersonsStaysBySite) {
   Performer b("b.json", rest(1.0f), {}, {});
   const SiteConfig a = site_config("a.json");

@@ -6,6 +6,7 @@
 // fills every pixel. Asking for a mode the headset lacks exits 1 naming what it offers.
 
 #include <gtest/gtest.h>
+#include <signal.h>
 
 #include <cstdint>
 #include <cstdlib>
@@ -141,6 +142,60 @@ TEST_F(BlendSession, AModeTheHeadsetLacksExits1NamingWhatItOffers) {
   app::Deixis bad({"xr", "--blend", "passthrough"});
   EXPECT_EQ(bad.wait(), 2);
   EXPECT_NE(bad.err().find("--blend"), std::string::npos) << bad.err();
+}
+
+// The presence panel (issue 25 part 5, docs/xr.md "Presence panel"): networked, `deixis xr`
+// draws it head-locked below the line of sight over everything, on plates of the label backing's
+// alpha (0.75), which a see-through layer keeps as partial alpha where only the real room is
+// behind them. The headset user (paced to the wall clock) joins a `deixis host` at site B; frame
+// 270's views hold such pixels only in the panel's place, and the summary prints the panel's
+// last lines: B live, its round trip, jitter-buffer delay and drops.
+TEST_F(BlendSession, NetworkedThePresencePanelIsDrawnHeadLockedBelowTheLineOfSight) {
+  unsetenv("XR_ENABLE_API_LAYERS");
+  write_script(R"({"display_hz": 30, "frames": 300, "realtime": true, "capture_frames": [270],
+                 "blend_modes": ["ALPHA_BLEND"], "keys": [{"t": 0, "head": {"position": [0, 1.6, 0],
+                 "orientation": [0, 0, 0, 1]}, "gaze": [0, -0.1, -1]}]})");
+  app::Deixis host({"host", "--site", app::site("b.json").string(), "--port", "0", "--bind",
+                    "127.0.0.1", "--no-video", "--seconds", "16", "--wait", "30", "--weights-dir",
+                    app::weights_dir(), "--out", (dir_ / "B").string()});
+  const int port = host.port();
+  ASSERT_GT(port, 0) << host.err();
+  app::Deixis xr({"xr", "--join", "127.0.0.1:" + std::to_string(port), "--seconds", "10",
+                  "--weights-dir", app::weights_dir()});
+  ASSERT_EQ(xr.wait(), 0) << xr.out() << xr.err();
+  host.send_signal(SIGTERM);
+  host.wait();
+  const std::string out = xr.out();
+  std::printf("%s", out.c_str());
+  EXPECT_NE(out.find("panel: Deixis: connected, 1 person here"), std::string::npos) << out;
+  EXPECT_NE(out.find("panel: B: live, rtt "), std::string::npos) << out;
+  EXPECT_NE(out.find(" in 5 s"), std::string::npos) << out;
+
+  const nlohmann::json rec = record();
+  const nlohmann::json& layer = rec["frames"].at(270)["layer_list"].at(0);
+  for (const nlohmann::json& image : layer["images"]) {
+    const std::vector<std::uint8_t> rgba = read_pam(image["file"]);
+    const int width = image["width"].get<int>();
+    const int height = image["height"].get<int>();
+    ASSERT_EQ(rgba.size(), 4u * static_cast<std::size_t>(width) * height);
+    std::uint64_t plate = 0, elsewhere = 0, text = 0;
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        const std::uint8_t* p = &rgba[4 * (static_cast<std::size_t>(y) * width + x)];
+        const bool partial = p[3] > 0 && p[3] < 255;
+        const bool white = p[0] > 240 && p[1] > 240 && p[2] > 240 && p[3] == 255;
+        // Rows top-down (the runtime writes the image as seen): the panel sits below the centre.
+        const bool in_place = y > height / 2 && y < height * 9 / 10;
+        if (partial) {
+          ++(in_place ? plate : elsewhere);
+        }
+        text += white && in_place ? 1 : 0;
+      }
+    }
+    EXPECT_GT(plate, 1000u) << image;
+    EXPECT_EQ(elsewhere, 0u) << "partial alpha only on the panel's plates";
+    EXPECT_GT(text, 150u) << "the panel's white text";
+  }
 }
 
 }  // namespace
