@@ -26,12 +26,12 @@ struct LabelExtent {
 LabelExtent append_label(std::string_view text, const Colour& text_colour,
                          const Colour& backing_colour, std::vector<OverlayVertex>& vertices);
 
-// Buffers append_label works in. A caller that rebuilds labels often keeps one, so that once
-// they have grown to its longest text no rebuild allocates (vertices kept with their capacity).
 struct FontVertex {  // stb_easy_font's vertex record (stb_easy_font.h): x, y, z, RGBA bytes
   float x, y, z;
   unsigned char rgba[4];
 };
+// Buffers append_label works in. A caller that rebuilds labels often keeps one, so that once
+// they have grown to its longest text no rebuild allocates (vertices kept with their capacity).
 struct LabelScratch {
   std::string line;               // the text, printable
   std::vector<FontVertex> quads;  // stb_easy_font's output

@@ -21,7 +21,7 @@ class SkinnedMeshCache {
   SkinnedMeshCache(Renderer& renderer, const SkinnedMesh& own);
 
   // The mesh's id in the renderer, uploading it the first time; null: the own mesh (what
-  // site::RemotePeople::worn_mesh gives for someone in the site's default). nullopt once
+  // site::DrawnAvatar::mesh holds for someone in the site's default). nullopt once
   // kMaxMeshes different meshes are uploaded (the caller draws something else or nothing).
   std::optional<SkinnedMeshId> get(const SkinnedMesh* mesh);
   SkinnedMeshId own() const { return meshes_.front().second; }

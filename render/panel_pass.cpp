@@ -20,7 +20,7 @@ void PanelPass::set_text(const HeadPanel& panel, const RendererOptions& options)
     scratch_.append(panel.lines[i]);
     scratch_.push_back('\n');
   }
-  if (scratch_ == text_ && line_count_ == count) {
+  if (scratch_ == text_) {  // one '\n' per line: the same text is the same number of lines
     return;
   }
   text_.swap(scratch_);

@@ -207,11 +207,6 @@ const PersonAvatar* RemotePeople::wearing(const presence::RemoteAvatar& avatar) 
   return nullptr;
 }
 
-const avatar::SkinnedMesh* RemotePeople::worn_mesh(const presence::RemoteAvatar& avatar) const {
-  const PersonAvatar* worn = wearing(avatar);
-  return worn != nullptr ? &worn->avatar.mesh : nullptr;
-}
-
 PersonAvatarRecord RemotePeople::avatar_record(const Slot& slot) const {
   PersonAvatarRecord r;
   r.joints = solver_of(slot).joint_count();
@@ -236,13 +231,18 @@ void RemotePeople::leave(PersonId id) {
   list_visible();  // gone from the live ones at once; its avatar fades out (step_fades)
 }
 
+// A present person whose stream is live and whose avatar is posed: shown at full opacity.
+bool RemotePeople::is_live(const Slot& slot) {
+  return slot.taken && slot.live && slot.avatar->visible();
+}
+
 // Lists the live avatars and those drawn. Called whenever an avatar is replaced or let go, so
 // neither list points at an avatar that is not posed.
 void RemotePeople::list_visible() {
   visible_.clear();
   drawn_.clear();
   for (const auto& slot : slots_) {
-    if (slot->taken && slot->live && slot->avatar->visible()) {
+    if (is_live(*slot)) {
       visible_.push_back(&*slot->avatar);
     }
     if (slot->avatar && slot->avatar->visible() && slot->opacity > 0.0f) {
@@ -261,9 +261,8 @@ void RemotePeople::step_fades() {
     if (!slot->avatar) {
       continue;
     }
-    const bool shown = slot->taken && slot->live && slot->avatar->visible();
     // Snapped at the ends, so that rounding leaves no step of 1e-8 to draw.
-    const float next = shown ? slot->opacity + kIn : slot->opacity - kOut;
+    const float next = is_live(*slot) ? slot->opacity + kIn : slot->opacity - kOut;
     slot->opacity = next > 1.0f - 0.5f * kIn ? 1.0f : next < 0.5f * kOut ? 0.0f : next;
     if (!slot->taken && slot->opacity == 0.0f) {
       slot->avatar.reset();
@@ -312,7 +311,7 @@ std::span<const PersonTarget> RemotePeople::people_targets(PersonId self, const 
     targets_.push_back({self, own_head});
   }
   for (const auto& slot : slots_) {
-    if (slot->taken && slot->live && slot->avatar->visible() && slot->stats.id != self) {
+    if (is_live(*slot) && slot->stats.id != self) {
       targets_.push_back({slot->stats.id, slot->avatar->eye_midpoint()});
     }
   }
@@ -394,7 +393,7 @@ void RemotePeople::end_tick() {
   step_fades();
   list_visible();
   for (const auto& slot : slots_) {
-    if (slot->taken && slot->live && slot->avatar->visible()) {
+    if (is_live(*slot)) {
       ++slot->stats.visible_ticks;
     }
   }

@@ -110,9 +110,6 @@ class RemotePeople {
   const PersonAvatar* wearing(PersonId id) const;
   // What the person whose avatar is `avatar` wears (null: the default, or not one of ours).
   const PersonAvatar* wearing(const presence::RemoteAvatar& avatar) const;
-  // The mesh of what they wear, null for the default: what a view draws them with
-  // (render::SkinnedMeshCache::get, where null is the view's own avatar).
-  const avatar::SkinnedMesh* worn_mesh(const presence::RemoteAvatar& avatar) const;
 
   // Where this room's people are for this room's LocalTargets: every visible avatar's head (its
   // eye midpoint after IK, as of the last tick) and, unless `self` is kNoPerson, the own user's
@@ -165,6 +162,7 @@ class RemotePeople {
   const ik::AvatarSolver& solver_of(const Slot& slot) const;
   void dress(Slot& slot);
   void fold_into_record(Slot& slot);
+  static bool is_live(const Slot& slot);
   void list_visible();
   void step_fades();
   void after_tick(Slot& slot, const PersonFrame& frame, const LocalTargets& room, double time);
