@@ -3,8 +3,10 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <span>
 
 #include "core/error.h"
+#include "core/io/atomic_file.h"
 #include "core/io/json_reader.h"
 
 namespace deixis {
@@ -108,6 +110,11 @@ TargetMap parse_target_map(std::string_view json_text, std::string_view source) 
 
 TargetMap read_target_map(const std::filesystem::path& path) {
   return parse_target_map(JsonReader::read_file(path), path.string());
+}
+
+void write_target_map(const TargetMap& map, const std::filesystem::path& path) {
+  const std::string text = to_json(map);
+  write_file_atomically(path, std::as_bytes(std::span(text.data(), text.size())));
 }
 
 std::string to_json(const TargetMap& map) {

@@ -90,6 +90,8 @@ struct TargetMap {
 TargetMap parse_target_map(std::string_view json_text, std::string_view source);
 TargetMap read_target_map(const std::filesystem::path& path);
 std::string to_json(const TargetMap& map);  // what parse_target_map reads back
+// Writes to_json(map) atomically (core/io/atomic_file.h). Throws deixis::Error naming the file.
+void write_target_map(const TargetMap& map, const std::filesystem::path& path);
 
 // The nearest point of an object's surface to `p` (a sphere's surface, or a box's), used to
 // place a touch on the object rather than at its centre.

@@ -309,6 +309,27 @@ Playout Session::next_frame(double now) {
   return jitter_.pop(now);
 }
 
+void Session::set_hello(const Hello& hello) {
+  if (hello.site != config_.hello.site) {
+    // The handshake's proof carries our name; the peer refuses a hello under another one.
+    throw Error("session: our hello cannot change the site's name ('" + config_.hello.site +
+                "' to '" + hello.site + "')");
+  }
+  Hello ours = hello;
+  if (avatar_tx_.has_file()) {
+    ours.avatar.model = avatar_tx_.model();  // the file we send stays the one we name
+  }
+  std::vector<std::byte> bytes;
+  if (WireResult e = encode(ours, bytes); !e.ok()) {
+    throw Error(wire_message("session: our hello", e));
+  }
+  config_.hello = std::move(ours);
+  hello_bytes_ = std::move(bytes);
+  if (serving()) {
+    send_reliable(hello_bytes_);
+  }
+}
+
 void Session::set_target_map(const TargetMap& map) {
   std::vector<std::byte> bytes;
   if (WireResult e = encode(map, bytes); !e.ok()) {
@@ -1132,6 +1153,7 @@ void Session::on_hello(Hello&& m, double now) {
     return refuse(ByeReason::kProtocolError, now);
   }
   remote_hello_ = std::move(m);
+  ++status_.hellos;
   if (status_.state == SessionState::kHello) {
     status_.state = SessionState::kStreaming;
     ++status_.streams;

@@ -129,6 +129,8 @@ struct PeerStatus {
   std::uint32_t round_trip_ms = 0;
   std::uint64_t attempts = 0;       // connection attempts (joiner) or connections (host)
   std::uint64_t streams = 0;        // connections that reached kStreaming
+  std::uint64_t hellos = 0;         // hellos accepted; more than one in a stream: a new one
+                                    // (a recalibration, docs/protocol.md §4.4)
   std::uint64_t timeouts = 0;       // heartbeat time-outs
   std::uint64_t auth_failures = 0;  // proofs that did not verify
 };
@@ -180,6 +182,9 @@ class Session {
   bool send_tracking(const TrackingFrame& frame);
   // The remote person's next tracking result (jitter_buffer.h): call until kPending or kNoStream.
   Playout next_frame(double now);
+  // Replaces our hello (a new calibration of the user) and sends it when past the handshake; the
+  // site's name and the avatar file we send stay. Throws deixis::Error if it breaks a wire rule.
+  void set_hello(const Hello& hello);
   // Replaces our target map and sends it when connected. Throws deixis::Error if it breaks a
   // wire rule.
   void set_target_map(const TargetMap& map);

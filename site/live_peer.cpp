@@ -85,6 +85,10 @@ void LivePeer::poll(double now) {
   refresh(now);
 }
 
+void LivePeer::set_user(const SiteConfig& site, const BodyCalibration& user) {
+  std::visit([&](auto& peer) { peer.set_user(site, user); }, peer_);
+}
+
 void LivePeer::close(double now) {
   if (closed_) {
     return;

@@ -75,6 +75,9 @@ class LivePeer {
   // the wait. Allocates nothing once streaming / once everyone in the room has met.
   void tick(const TrackingFrame& user, double sampled, double now, const LocalTargets& room);
   void poll(double now);
+  // The user recalibrated (a button in the headset): the new calibration goes out in a new hello
+  // (SitePeer::set_user, RoomPeer::set_user). Throws deixis::Error if it breaks a wire rule.
+  void set_user(const SiteConfig& site, const BodyCalibration& user);
   // Says bye (at most 0.5 s); idempotent.
   void close(double now);
 

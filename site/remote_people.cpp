@@ -140,7 +140,10 @@ const presence::RemoteAvatar& RemotePeople::meet(PersonId id, const net::Hello& 
   slot->live = true;
   slot->stats = PersonStats{id, hello.site, slot->stats.spot};
   dress(*slot);
-  ++record_of(hello.site).stays;
+  PersonRecord& record = record_of(hello.site);
+  ++record.stays;
+  record.height_m = static_cast<double>(hello.avatar.body.height);
+  record.arm_length_m = static_cast<double>(hello.avatar.body.arm_length);
   list_visible();  // the fresh avatar is not posed yet: neither list may show it
   return *slot->avatar;
 }

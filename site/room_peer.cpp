@@ -74,6 +74,10 @@ RoomPeer::RoomPeer(const RoomPeerOptions& options, const SiteConfig& site,
 
 RoomPeer::~RoomPeer() = default;
 
+void RoomPeer::set_user(const SiteConfig& site, const BodyCalibration& user) {
+  session_->set_hello(site_hello(site, user));
+}
+
 void RoomPeer::service(double now, std::uint32_t wait_ms) {
   session_->poll(now);
   client_->poll(now, *session_, wait_ms);

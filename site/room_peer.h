@@ -79,6 +79,9 @@ class RoomPeer {
   const net::RoomSession& session() const { return *session_; }
   const net::RelayClient& relay() const { return *client_; }
   const RoomPeerStats& stats() const { return stats_; }
+  // The user recalibrated: a new hello to everyone verified (and to those who come later).
+  // Throws deixis::Error if it breaks a wire rule.
+  void set_user(const SiteConfig& site, const BodyCalibration& user);
   // Says bye to the room and leaves the relay (at most 0.5 s).
   void close(double now);
 

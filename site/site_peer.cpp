@@ -21,10 +21,10 @@ SitePeer::SitePeer(const SitePeerOptions& options, const SiteConfig& site,
 }
 
 void SitePeer::meet_remote_person(const net::Hello& hello, RemotePersonWatcher* watcher) {
-  // A new connection (the first, or after a reconnect): the person may have changed, and gets a
-  // fresh avatar on the first spot.
+  // A new connection (the first, or after a reconnect) or a new hello in this one (they
+  // recalibrated): the person may have changed, and gets a fresh avatar on the first spot.
   const presence::RemoteAvatar& avatar = people_.meet(kDirectPerson, hello);
-  stream_ = net_.session().status().streams;
+  hellos_ = net_.session().status().hellos;
   stats_.peer_site = hello.site;
   spdlog::info("streaming with site {}", hello.site);
   if (chosen_) {
@@ -35,6 +35,10 @@ void SitePeer::meet_remote_person(const net::Hello& hello, RemotePersonWatcher* 
   }
 }
 
+void SitePeer::set_user(const SiteConfig& site, const BodyCalibration& user) {
+  net_.session().set_hello(site_hello(site, user));
+}
+
 void SitePeer::tick(const TrackingFrame& user, double sampled, double now, const LocalTargets& room,
                     RemotePersonWatcher* watcher) {
   ++stats_.ticks;
@@ -43,7 +47,7 @@ void SitePeer::tick(const TrackingFrame& user, double sampled, double now, const
   if (net_.streaming()) {
     net::Session& session = net_.session();
     if (const net::Hello* hello = session.remote_hello();
-        hello != nullptr && session.status().streams != stream_) {
+        hello != nullptr && session.status().hellos != hellos_) {
       meet_remote_person(*hello, watcher);
     }
     TrackingFrame frame = user;

@@ -95,6 +95,10 @@ class SitePeer {
   static constexpr PersonId kDirectPerson = 1;
   const SitePeerStats& stats() const { return stats_; }
   const SiteSession& network() const { return net_; }
+  // The user recalibrated: the new calibration goes to the other site in a new hello (at once
+  // when connected, else with the next one); their avatar of us starts afresh from it. Throws
+  // deixis::Error if it breaks a wire rule.
+  void set_user(const SiteConfig& site, const BodyCalibration& user);
   void close(double now) { net_.close(now); }
 
  private:
@@ -105,7 +109,7 @@ class SitePeer {
   SiteSession net_;
   RemotePeople people_;
   std::unique_ptr<ChosenAvatars> chosen_;  // null: everyone wears the site's avatar
-  std::uint64_t stream_ = 0;               // the connection the avatar belongs to
+  std::uint64_t hellos_ = 0;               // the peer's hello the avatar was made for
   bool live_ = false;
   SitePeerStats stats_;
 };

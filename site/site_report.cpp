@@ -172,6 +172,8 @@ json people_json(const std::vector<PersonRecord>& people) {
                    {"frames_missed", p.frames_missed},
                    {"visible_ticks", p.visible_ticks},
                    {"stays", p.stays},
+                   {"height_m", p.height_m},
+                   {"arm_length_m", p.arm_length_m},
                    {"pointing_count", m.count},
                    {"he_deg", number(m.avatar_h)},
                    {"ve_deg", number(m.avatar_v)},

@@ -101,12 +101,15 @@ void FrameLoop::frame(FrameSink& sink, FrameLoopResult& result) {
     first_display_time_ = fs.predictedDisplayTime;
   }
   seconds_ = static_cast<double>(fs.predictedDisplayTime - first_display_time_) * 1e-9;
+  Buttons buttons;
   if (syncs_actions(machine_)) {
     input_->sync();
+    buttons = input_->buttons();
   }
   const TrackingFrame user = input_->locate(fs.predictedDisplayTime, seconds_);
   const FrameInfo info{frame_index_, fs.predictedDisplayTime,    fs.predictedDisplayPeriod,
-                       seconds_,     fs.shouldRender == XR_TRUE, machine_.state};
+                       seconds_,     fs.shouldRender == XR_TRUE, machine_.state,
+                       buttons};
   sink.on_frame(info, user);
 
   auto layer = make<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);

@@ -28,6 +28,7 @@ struct FrameInfo {
   double seconds = 0.0;  // predicted display time since the first frame's
   bool should_render = false;
   SessionState state = SessionState::kUnknown;
+  Buttons buttons;  // synced in this frame; all up without focus
 };
 
 // The application's side of a frame. Called on the loop's thread with the GL context current;

@@ -14,17 +14,22 @@ namespace {
 constexpr XrSpaceLocationFlags kPoseValid =
     XR_SPACE_LOCATION_POSITION_VALID_BIT | XR_SPACE_LOCATION_ORIENTATION_VALID_BIT;
 
-XrAction create_pose_action(XrInstance xi, XrActionSet set, const char* name, const char* localized,
-                            const XrPath* subactions, std::uint32_t n) {
+XrAction create_action(XrInstance xi, XrActionSet set, XrActionType type, const char* name,
+                       const char* localized, const XrPath* subactions, std::uint32_t n) {
   auto ci = make<XrActionCreateInfo>(XR_TYPE_ACTION_CREATE_INFO);
   std::snprintf(ci.actionName, XR_MAX_ACTION_NAME_SIZE, "%s", name);
   std::snprintf(ci.localizedActionName, XR_MAX_LOCALIZED_ACTION_NAME_SIZE, "%s", localized);
-  ci.actionType = XR_ACTION_TYPE_POSE_INPUT;
+  ci.actionType = type;
   ci.countSubactionPaths = n;
   ci.subactionPaths = subactions;
   XrAction action = XR_NULL_HANDLE;
   XR_CHECK(xi, xrCreateAction(set, &ci, &action));
   return action;
+}
+
+XrAction create_pose_action(XrInstance xi, XrActionSet set, const char* name, const char* localized,
+                            const XrPath* subactions, std::uint32_t n) {
+  return create_action(xi, set, XR_ACTION_TYPE_POSE_INPUT, name, localized, subactions, n);
 }
 
 XrSpace action_space(XrInstance xi, XrSession session, XrAction action, XrPath subaction) {
@@ -102,11 +107,19 @@ Input::Input(const Instance& instance, const GlSession& session)
   try {
     grip_action_ = create_pose_action(xi, set_, "hand_grip", "Hand grip", hand_paths_.data(), 2);
     aim_action_ = create_pose_action(xi, set_, "hand_aim", "Hand aim", hand_paths_.data(), 2);
+    select_action_ = create_action(xi, set_, XR_ACTION_TYPE_BOOLEAN_INPUT, "select", "Select",
+                                   hand_paths_.data(), 2);
+    menu_action_ = create_action(xi, set_, XR_ACTION_TYPE_BOOLEAN_INPUT, "menu", "Menu",
+                                 hand_paths_.data(), 2);
     suggest(instance, "/interaction_profiles/khr/simple_controller",
             {{grip_action_, "/user/hand/left/input/grip/pose"},
              {grip_action_, "/user/hand/right/input/grip/pose"},
              {aim_action_, "/user/hand/left/input/aim/pose"},
-             {aim_action_, "/user/hand/right/input/aim/pose"}});
+             {aim_action_, "/user/hand/right/input/aim/pose"},
+             {select_action_, "/user/hand/left/input/select/click"},
+             {select_action_, "/user/hand/right/input/select/click"},
+             {menu_action_, "/user/hand/left/input/menu/click"},
+             {menu_action_, "/user/hand/right/input/menu/click"}});
     if (instance.features().eye_gaze) {
       gaze_action_ = create_pose_action(xi, set_, "eye_gaze", "Eye gaze", nullptr, 0);
       suggest(instance, "/interaction_profiles/ext/eye_gaze_interaction",
@@ -162,6 +175,7 @@ Input::~Input() {
 }
 
 void Input::sync() {
+  buttons_ = {};  // unfocused: nothing held, nothing pressed
   XrActiveActionSet active{set_, XR_NULL_PATH};
   auto si = make<XrActionsSyncInfo>(XR_TYPE_ACTIONS_SYNC_INFO);
   si.countActiveActionSets = 1;
@@ -172,6 +186,26 @@ void Input::sync() {
   }
   XR_CHECK(instance_, r);
   synced_ = true;
+  read_buttons();
+}
+
+// Pressed: the state changed to down in this sync (spec §11.5: changedSinceLastSync).
+bool Input::read_button(XrAction action, std::size_t hand, bool& pressed) const {
+  auto gi = make<XrActionStateGetInfo>(XR_TYPE_ACTION_STATE_GET_INFO);
+  gi.action = action;
+  gi.subactionPath = hand_paths_[hand];
+  auto state = make<XrActionStateBoolean>(XR_TYPE_ACTION_STATE_BOOLEAN);
+  XR_CHECK(instance_, xrGetActionStateBoolean(session_, &gi, &state));
+  const bool down = state.isActive == XR_TRUE && state.currentState == XR_TRUE;
+  pressed = down && state.changedSinceLastSync == XR_TRUE;
+  return down;
+}
+
+void Input::read_buttons() {
+  for (std::size_t h = 0; h < 2; ++h) {
+    buttons_.select[h] = read_button(select_action_, h, buttons_.select_pressed[h]);
+    buttons_.menu[h] = read_button(menu_action_, h, buttons_.menu_pressed[h]);
+  }
 }
 
 bool Input::locate_space(XrSpace space, XrTime time, Pose& out) const {

@@ -34,18 +34,32 @@ Pose wrist_from_joint(const Pose& T_world_joint, Hand hand);
 // Both position and orientation flagged valid.
 bool pose_valid(XrSpaceLocationFlags flags);
 
+// The two buttons every controller has (khr/simple_controller: select and menu; a runtime maps
+// its own controllers' onto them), per hand (index(Hand)): held after the last sync, and pressed
+// (went down) in it. All false before the first sync with focus, and without focus.
+struct Buttons {
+  std::array<bool, 2> select{};
+  std::array<bool, 2> menu{};
+  std::array<bool, 2> select_pressed{};
+  std::array<bool, 2> menu_pressed{};
+};
+
 class Input {
  public:
-  // Creates the pose actions (gaze, grip, aim), suggests bindings for
-  // /interaction_profiles/khr/simple_controller and ext/eye_gaze_interaction, attaches them, and
-  // creates a hand tracker per hand where hand tracking is supported. Throws deixis::Error.
+  // Creates the pose actions (gaze, grip, aim) and the button actions (select, menu), suggests
+  // bindings for /interaction_profiles/khr/simple_controller and ext/eye_gaze_interaction,
+  // attaches them, and creates a hand tracker per hand where hand tracking is supported. Throws
+  // deixis::Error.
   Input(const Instance& instance, const GlSession& session);
   ~Input();
   Input(const Input&) = delete;
   Input& operator=(const Input&) = delete;
 
-  // xrSyncActions: once per frame, only with input focus (xr/session_state.h syncs_actions).
+  // xrSyncActions: once per frame, only with input focus (xr/session_state.h syncs_actions);
+  // reads the buttons.
   void sync();
+  // The buttons as of the last sync (pressed: in that sync only). Allocates nothing.
+  const Buttons& buttons() const { return buttons_; }
   // The user at display time `time`, stamped `clock` (s). Allocates nothing.
   TrackingFrame locate(XrTime time, double clock);
 
@@ -59,6 +73,8 @@ class Input {
   bool locate_controller(Hand hand, XrTime time, TrackingFrame& frame);
   bool locate_space(XrSpace space, XrTime time, Pose& out) const;
   bool locate_eye_gaze(XrTime time, TrackingFrame& frame);
+  void read_buttons();
+  bool read_button(XrAction action, std::size_t hand, bool& pressed) const;
 
   XrInstance instance_;
   XrSession session_;
@@ -68,6 +84,8 @@ class Input {
   XrAction gaze_action_ = XR_NULL_HANDLE;
   XrAction grip_action_ = XR_NULL_HANDLE;
   XrAction aim_action_ = XR_NULL_HANDLE;
+  XrAction select_action_ = XR_NULL_HANDLE;
+  XrAction menu_action_ = XR_NULL_HANDLE;
   std::array<XrPath, 2> hand_paths_{};  // by Hand
   XrSpace gaze_space_ = XR_NULL_HANDLE;
   std::array<XrSpace, 2> grip_spaces_{};
@@ -77,6 +95,7 @@ class Input {
   PFN_xrDestroyHandTrackerEXT destroy_tracker_ = nullptr;
   std::array<XrHandJointLocationEXT, XR_HAND_JOINT_COUNT_EXT> joints_{};
   bool synced_ = false;
+  Buttons buttons_;
   std::uint64_t gaze_from_head_frames_ = 0;
 };
 

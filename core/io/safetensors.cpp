@@ -1,6 +1,5 @@
 #include "core/io/safetensors.h"
 
-#include <unistd.h>
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -11,6 +10,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/io/atomic_file.h"
 
 static_assert(std::endian::native == std::endian::little,
               "safetensors is little-endian; Deixis reads it by memcpy");
@@ -545,29 +545,7 @@ std::vector<std::byte> SafetensorsWriter::serialize() const {
 }
 
 void SafetensorsWriter::write(const std::filesystem::path& path) const {
-  const std::vector<std::byte> bytes = serialize();
-  std::filesystem::path temporary = path;
-  temporary += ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      throw Error(temporary.string() + ": cannot create: " + std::strerror(errno));
-    }
-    out.write(reinterpret_cast<const char*>(bytes.data()),
-              static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      throw Error(temporary.string() + ": write failed (disk full?)");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) {
-    std::filesystem::remove(temporary, ec);
-    throw Error(path.string() + ": cannot move the finished file into place: " + ec.message());
-  }
+  write_file_atomically(path, serialize());
 }
 
 }  // namespace deixis
