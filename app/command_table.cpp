@@ -559,7 +559,8 @@ void add_xr(CLI::App& program, const Invocation&, std::vector<Runner>& runners) 
       "both eyes see this site's room and the remote person's avatar. With --host or --join the "
       "site meets another (deixis host/join/xr); with --connect and --room it enters a room of "
       "several people on a relay (deixis relay): the headset user, calibrated standing upright "
-      "at the start, is tracked out with the targets they look and point at (objects and "
+      "at the start (and again on the menu button of the hand that does not point), is tracked "
+      "out with the targets they look and point at (objects and "
       "people), and every other person comes in as a translated avatar. Without, the remote "
       "person is "
       "--remote-site's scripted virtual user, performed locally. Prints the runtime, then "
@@ -611,9 +612,27 @@ void add_xr(CLI::App& program, const Invocation&, std::vector<Runner>& runners) 
                 "Hide the presence panel (shown head-locked below the line of sight while "
                 "networked: each remote person's link, round trip, jitter-buffer delay and "
                 "frames dropped in the last 5 s)");
+  cmd->add_flag("--setup", o.setup,
+                "Set up the room from inside the headset instead of meeting anyone: put each "
+                "object of --site's target map on the real object it stands for (touch it, or "
+                "point at it from two places), move and resize it, recalibrate; the map is saved "
+                "after every change (docs/xr.md \"Setting up the room\")");
+  cmd->add_option("--save", o.save,
+                  "With --setup: where the target map goes (default: the site's target map "
+                  "file, the previous one kept as FILE.bak)");
   runners.push_back({cmd, [xr] {
                        XrRunOptions& r = xr->options;
                        if (!live_session_ready("xr", xr->pass, r)) {
+                         return 2;
+                       }
+                       if (r.setup && r.network) {
+                         std::fprintf(stderr,
+                                      "deixis xr: --setup is a session of its own: no --host, "
+                                      "--join or --connect\n");
+                         return 2;
+                       }
+                       if (!r.setup && !r.save.empty()) {
+                         std::fprintf(stderr, "deixis xr: --save goes with --setup\n");
                          return 2;
                        }
                        return run_xr(r);

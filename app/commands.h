@@ -187,6 +187,8 @@ struct XrRunOptions {
   std::filesystem::path remote_avatar;  // what every remote person wears here; empty: their choice
   std::string blend = "auto";           // xr/blend_mode.h: auto, opaque, alpha or additive
   bool no_panel = false;                // hide the head-locked presence panel
+  bool setup = false;                   // set the room's target map up (app/xr_setup.h)
+  std::filesystem::path save;           // setup: where the map goes; empty: the site's map file
 };
 int run_xr(const XrRunOptions& options);
 

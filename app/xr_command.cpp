@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/xr_setup.h"
 #include "avatar/avatar_loader.h"
 #include "capture/subject.h"
 #include "capture/virtual_user.h"
@@ -240,6 +241,9 @@ class XrSink final : public xr::FrameSink {
         return;  // calibration waits for the head
       }
       meet(user, frame.seconds);
+    } else if (recalibrate_pressed(frame.buttons, network_->body.deictic_hand) &&
+               (user.valid & tracked::kHead) != 0) {
+      recalibrate(user);
     }
     while (static_cast<double>(ticks_) * kTick <= frame.seconds) {
       // The user designates what they look and point at in this room; the other person (in a
@@ -263,18 +267,22 @@ class XrSink final : public xr::FrameSink {
   // The user stands upright when the session starts: their calibration goes in the hello.
   void meet(const TrackingFrame& upright, double display_seconds) {
     wall_at_first_frame_ = clock_.now() - display_seconds;
-    const BodyCalibration calibration = calibrate_upright(upright, network_->body);
+    const BodyCalibration calibration = calibrate_and_tell(upright, network_->body, false);
     selector_.config = target_selection_for(calibration);
-    std::printf("calibrated: stature %.2f m, arm %.2f m, %s hand\n",
-                static_cast<double>(calibration.height),
-                static_cast<double>(calibration.arm_length),
-                calibration.deictic_hand == Hand::kLeft ? "left" : "right");
     peer_.emplace(network_->options, site_, calibration, *network_->networks, *network_->solver,
                   *network_->worn, clock_.now());
     if (peer_->port() != 0) {  // a host
       std::printf("port %u\n", static_cast<unsigned>(peer_->port()));
     }
     std::fflush(stdout);
+  }
+
+  // The recalibrate button (app/xr_setup.h): the user's upright posture again, sent to the people
+  // met in a new hello (their avatar of this user starts afresh from it).
+  void recalibrate(const TrackingFrame& upright) {
+    const BodyCalibration calibration = calibrate_and_tell(upright, network_->body, true);
+    selector_.config = target_selection_for(calibration);
+    peer_->set_user(site_, calibration);
   }
 
   // The networked people's avatars (fading ones too), else the headset user's own translated.
@@ -313,10 +321,6 @@ class XrSink final : public xr::FrameSink {
   std::vector<render::AvatarDraw> avatars_;  // this view's, one per spot at most
   Vec3 user_head_ = Vec3(0, 1.6f, 0);
   Pose user_head_pose_{};
-  // The presence panel 0.55 m ahead of the eyes and 0.2 m below them (20° down, out of the way of
-  // what the user looks at), facing them; lines 2 cm tall (2°: about 40 px on a current headset).
-  static inline const Pose kHeadPanel{Mat3::Identity(), Vec3(0.0f, -0.2f, -0.55f)};
-  static constexpr float kPanelLineHeight = 0.02f;
   site::PresencePanel panel_;
   render::HeadPanel head_panel_;
   std::vector<std::string> panel_lines_;  // the panel's last lines, for the summary
@@ -337,6 +341,10 @@ struct XrAssets {
   site::WornAvatars worn;  // --avatar offered to the people met, --remote-avatar worn here
 };
 
+Hand xr_hand(const XrRunOptions& o) {
+  return o.hand == "left" ? Hand::kLeft : Hand::kRight;
+}
+
 XrAssets load_assets(const XrRunOptions& o) {
   site::SiteConfig site = site::read_site_config(o.site);
   for (const site::BehindSpot& b : site::behind_spots(site)) {
@@ -356,6 +364,55 @@ XrAssets load_assets(const XrRunOptions& o) {
           std::move(remote), site::load_worn_avatars(o.avatar, o.remote_avatar)};
 }
 
+// The headset: the OpenXR instance (with the blend mode chosen), the GL context the session
+// binds to (EGL, else a hidden GLFW window's GLX context: xr/gl_context.h), the renderer, the
+// session, its swapchains, input and frame loop, made in that order.
+struct Headset {
+  explicit Headset(const XrRunOptions& o)
+      : instance(xr::InstanceOptions{o.headless, true, true, "deixis xr",
+                                     *xr::parse_blend_choice(o.blend)}),
+        blend(instance.view_config().blend_mode),
+        see_through(xr::see_through(blend)),
+        context(xr::make_gl_context(instance)),
+        // See-through: cleared to transparent black, which ALPHA_BLEND shows as the real room
+        // and ADDITIVE adds nothing to.
+        renderer(see_through ? render::RendererOptions{.background = render::Colour(0, 0, 0, 0)}
+                             : render::RendererOptions{}),
+        session(instance),
+        swapchains(instance, session),
+        input(instance, session),
+        loop(instance, session, swapchains, input) {
+    std::printf("OpenXR: %s; hand tracking %s, eye gaze %s\n", instance.description().c_str(),
+                instance.features().hand_tracking ? "yes" : "no (controller poses)",
+                instance.features().eye_gaze ? "yes" : "no (the head's forward, estimated)");
+    std::printf("blend mode %s%s\n", xr::blend_mode_name(blend),
+                see_through ? " (see-through: the avatars only, over the real room)"
+                            : " (the virtual room)");
+  }
+
+  // Runs the frame loop; returns 1 when the session was lost, else 0.
+  int run(double seconds, xr::FrameSink& sink, xr::FrameLoopResult& result) {
+    xr::FrameLoopOptions options;
+    options.seconds = seconds;
+    result = loop.run(options, sink);
+    if (result.lost) {
+      std::fprintf(stderr, "deixis xr: the OpenXR session was lost\n");
+      return 1;
+    }
+    return 0;
+  }
+
+  xr::Instance instance;
+  XrEnvironmentBlendMode blend;
+  bool see_through;
+  std::unique_ptr<render::Context> context;
+  render::Renderer renderer;
+  xr::GlSession session;
+  xr::Swapchains swapchains;
+  xr::Input input;
+  xr::FrameLoop loop;
+};
+
 int run_session(const XrRunOptions& o, XrAssets& a) {
   const Pose remote_floor = a.site.remote_avatar.T_world_floor();
   // Without a network the remote person wears the override (--remote-avatar) if there is one.
@@ -372,61 +429,67 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
                                      .T_world_floor = remote_floor,
                                      .mirrored = site::translated_mirrored(person.deictic_hand)});
   }
-  xr::Instance instance(
-      xr::InstanceOptions{o.headless, true, true, "deixis xr", *xr::parse_blend_choice(o.blend)});
-  const XrEnvironmentBlendMode blend = instance.view_config().blend_mode;
-  const bool see_through = xr::see_through(blend);
-  // The context the OpenXR session binds to, by what the runtime offers (EGL, else a hidden
-  // GLFW window's GLX context: xr/gl_context.h); the views go to the swapchains.
-  const std::unique_ptr<render::Context> context = xr::make_gl_context(instance);
-  // See-through: cleared to transparent black, which ALPHA_BLEND shows as the real room and
-  // ADDITIVE adds nothing to.
-  render::Renderer renderer(see_through
-                                ? render::RendererOptions{.background = render::Colour(0, 0, 0, 0)}
-                                : render::RendererOptions{});
-  renderer.set_targets(a.site.target_map);
+  Headset headset(o);
+  headset.renderer.set_targets(a.site.target_map);
   const avatar::SkinnedMesh& mesh =
       local_avatar && override_avatar ? override_avatar->avatar.mesh : a.avatar.mesh;
-  std::printf("OpenXR: %s; hand tracking %s, eye gaze %s\n", instance.description().c_str(),
-              instance.features().hand_tracking ? "yes" : "no (controller poses)",
-              instance.features().eye_gaze ? "yes" : "no (the head's forward, estimated)");
-  std::printf(
-      "blend mode %s%s\n", xr::blend_mode_name(blend),
-      see_through ? " (see-through: the avatars only, over the real room)" : " (the virtual room)");
-  xr::GlSession session(instance);
-  xr::Swapchains swapchains(instance, session);
-  xr::Input input(instance, session);
-  xr::FrameLoop loop(instance, session, swapchains, input);
-  XrSink sink(a.site, renderer, mesh,
-              presence::avatar_origin(local_solver, remote_floor).translation, see_through,
+  XrSink sink(a.site, headset.renderer, mesh,
+              presence::avatar_origin(local_solver, remote_floor).translation, headset.see_through,
               !o.no_panel);
   if (local_avatar) {
     sink.use_local({*a.remote, *local_avatar});
   } else {
     sink.use_network(
         {site::live_peer_options(o.host, o.address, o.port, o.room, o.passphrase, o.wait),
-         UprightBody{o.hand == "left" ? Hand::kLeft : Hand::kRight, o.height, 0}, &a.networks,
-         &a.solver, &a.worn});
+         UprightBody{xr_hand(o), o.height, 0}, &a.networks, &a.solver, &a.worn});
   }
-  xr::FrameLoopOptions options;
-  options.seconds = o.seconds;
-  const xr::FrameLoopResult result = loop.run(options, sink);
+  xr::FrameLoopResult result;
+  const int status = headset.run(o.seconds, sink, result);
   sink.close(0.0);
-  sink.print_summary(result, input.gaze_from_head_frames());
+  sink.print_summary(result, headset.input.gaze_from_head_frames());
   if (!sink.error().empty()) {
     std::fprintf(stderr, "deixis xr: %s\n", sink.error().c_str());
     return 1;
   }
-  if (result.lost) {
-    std::fprintf(stderr, "deixis xr: the OpenXR session was lost\n");
-    return 1;
-  }
-  return 0;
+  return status;
+}
+
+// `--setup`: the room's target map set up from inside the headset (app/xr_setup.h); no network.
+int run_setup(const XrRunOptions& o, const site::SiteConfig& site) {
+  Headset headset(o);
+  const std::filesystem::path save = o.save.empty() ? site.target_map_path : o.save;
+  SetupSink sink(site, save, xr_hand(o), UprightBody{xr_hand(o), o.height, 0}, headset.renderer,
+                 headset.see_through, !o.no_panel);
+  std::printf("setting up %s (%zu objects), saving to %s\n", site.target_map_path.string().c_str(),
+              site.target_map.objects.size(), save.string().c_str());
+  std::fflush(stdout);
+  xr::FrameLoopResult result;
+  const int status = headset.run(o.seconds, sink, result);
+  sink.print_summary();
+  return status;
 }
 
 }  // namespace
 
 int run_xr(const XrRunOptions& o) {
+  if (o.setup) {
+    std::optional<site::SiteConfig> site;
+    try {
+      site.emplace(site::read_site_config(o.site));
+      if (site->target_map.objects.empty()) {
+        throw Error(site->target_map_path.string() + ": objects: none to set up");
+      }
+    } catch (const Error& e) {
+      std::fprintf(stderr, "deixis xr: %s\n", e.what());
+      return 2;
+    }
+    try {
+      return run_setup(o, *site);
+    } catch (const Error& e) {
+      std::fprintf(stderr, "deixis xr: %s\n", e.what());
+      return 1;
+    }
+  }
   std::optional<XrAssets> assets;
   try {
     assets.emplace(load_assets(o));

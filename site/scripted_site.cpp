@@ -289,6 +289,8 @@ class ScriptedSite {
       for (const PersonRecord& p : peer_.people().records()) {
         if (p.site == person.site) {
           person.avatar = p.avatar;  // what they wore last
+          person.height_m = p.height_m;  // and the body their last hello described
+          person.arm_length_m = p.arm_length_m;
         }
       }
       person.frames_played = peer_.stats().played;

@@ -47,7 +47,7 @@ struct PersonRecord {
   std::uint64_t frames_played = 0;
   std::uint64_t frames_missed = 0;
   std::uint64_t visible_ticks = 0;
-  std::uint64_t stays = 0;  // how many times they arrived (or said a new hello: recalibrated)
+  std::uint64_t stays = 0;  // how many times they arrived
   // The body their last hello described (a headset user recalibrates with a button: xr).
   double height_m = 0.0;
   double arm_length_m = 0.0;
