@@ -404,5 +404,33 @@ TEST(Session, AnInvalidOwnHelloIsAConfigurationError) {
   EXPECT_THROW(Session(network.host(), config), Error);
 }
 
+// A recalibration (deixis xr's button): our hello again, mid-stream, sealed like the first. The
+// peer takes the new body and counts a second hello in the same stream; tracking goes on.
+TEST(Session, ANewHelloMidStreamReachesThePeerWithTheNewBody) {
+  SessionPair pair({}, 12, "correct horse battery staple", "correct horse battery staple");
+  ASSERT_TRUE(pair.connect());
+  ASSERT_EQ(pair.host.status().hellos, 1u);
+  Hello again = pair.joiner.config().hello;
+  again.avatar.body.height = 1.52f;
+  again.avatar.body.arm_length = 0.66f;
+  pair.joiner.set_hello(again);
+  ASSERT_TRUE(pair.run_until([&] { return pair.host.status().hellos == 2; }, 1.0));
+  EXPECT_EQ(pair.host.remote_hello()->avatar.body.height, 1.52f);
+  EXPECT_EQ(pair.host.remote_hello()->avatar.body.arm_length, 0.66f);
+  EXPECT_EQ(pair.host.status().streams, 1u) << "the same stream";
+  EXPECT_EQ(pair.host.state(), SessionState::kStreaming);
+  expect_streams_tracking(pair);
+  EXPECT_EQ(pair.host.drops().total, 0u);
+  // A hello under another name is refused here rather than sent (the proof bound the name), and
+  // one that breaks a wire rule too; neither replaces the hello we send.
+  Hello renamed = again;
+  renamed.site = "C";
+  EXPECT_THROW(pair.joiner.set_hello(renamed), Error);
+  Hello broken = again;
+  broken.avatar.body.height = std::nanf("");
+  EXPECT_THROW(pair.joiner.set_hello(broken), Error);
+  EXPECT_EQ(pair.joiner.config().hello.avatar.body.height, 1.52f);
+}
+
 }  // namespace
 }  // namespace deixis::net

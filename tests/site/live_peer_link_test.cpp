@@ -6,11 +6,12 @@
 // conditions a lossy network would make), and A's panel must say about that much; directly,
 // nothing is lost. Then B stops sending (still connected): A's panel says "stalled" and B's
 // avatar fades out over RemotePeople::kFadeOutTicks instead of vanishing; B sends again: it fades
-// back in.
+// back in. Then B's user recalibrates: A takes the new body from B's new hello.
 
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -162,6 +163,31 @@ TEST_P(LivePeerLinks, ThePanelSaysWhatTheLinkDoesAndAStoppedStreamFadesOut) {
   ASSERT_EQ(pa.drawn().size(), 1u);
   EXPECT_EQ(pa.drawn()[0].opacity, 1.0f);
   EXPECT_EQ(b_at_a().link.state, LinkState::kLive);
+
+  // B's user recalibrates (the headset's button): A makes B's avatar afresh for the new body,
+  // and goes on showing it.
+  const auto height_of_b_at_a = [&] {
+    for (const PersonRecord& r : pa.people().records()) {
+      if (r.site == "B") {
+        return r.height_m;
+      }
+    }
+    return 0.0;
+  };
+  EXPECT_NEAR(height_of_b_at_a(), static_cast<double>(b.body.height), 1e-6);
+  BodyCalibration shorter = b.body;
+  shorter.height -= 0.15f;
+  pb.set_user(b.config, shorter);
+  while (std::abs(height_of_b_at_a() - static_cast<double>(shorter.height)) > 1e-6 &&
+         tick < 3300) {
+    step();
+  }
+  EXPECT_NEAR(height_of_b_at_a(), static_cast<double>(shorter.height), 1e-6)
+      << "the new hello never reached A";
+  for (int i = 0; i < 30; ++i) {
+    step();
+  }
+  EXPECT_EQ(pa.visible().size(), 1u) << "shown again after the new hello";
   pb.close(clock.now());
   pa.close(clock.now());
 }
