@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.h"
 #include "net/wire.h"
 
 namespace deixis::net {
@@ -551,6 +552,27 @@ WireResult decode(std::span<const std::byte> packet, Bye& out) {
   }
   out.reason = static_cast<ByeReason>(reason);
   return wire_ok();
+}
+
+std::string wire_message(std::string_view what, WireResult why) {
+  return std::string(what) + ": " + why.field + ": " + std::string(drop_reason_name(why.reason));
+}
+
+std::vector<std::byte> encode_replacement_hello(const Hello& current, Hello& next,
+                                                std::string_view avatar_model,
+                                                std::string_view who) {
+  if (next.site != current.site) {
+    throw Error(std::string(who) + ": our hello cannot change the site's name ('" + current.site +
+                "' to '" + next.site + "')");
+  }
+  if (!avatar_model.empty()) {
+    next.avatar.model = std::string(avatar_model);
+  }
+  std::vector<std::byte> bytes;
+  if (WireResult e = encode(next, bytes); !e.ok()) {
+    throw Error(wire_message(std::string(who) + ": our hello", e));
+  }
+  return bytes;
 }
 
 }  // namespace deixis::net

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/target_map.h"
@@ -104,6 +105,15 @@ void encode(const Welcome& m, std::vector<std::byte>& out);
 void encode(const Join& m, std::vector<std::byte>& out);
 void encode(const Accept& m, std::vector<std::byte>& out);
 WireResult encode(const Hello& m, std::vector<std::byte>& out);
+// "what: field: reason": one of our own messages that breaks a wire rule, as an error's text.
+std::string wire_message(std::string_view what, WireResult why);
+// Our hello replaced mid-session (a recalibration; docs/protocol.md §4.4): `next` keeps
+// `current`'s site name (the handshake's proofs carried it; another one throws) and names
+// `avatar_model` when that is not empty (the file we send stays the one we name). Returns it
+// encoded; throws deixis::Error, its text starting with `who`, when it breaks a wire rule.
+std::vector<std::byte> encode_replacement_hello(const Hello& current, Hello& next,
+                                                std::string_view avatar_model,
+                                                std::string_view who);
 WireResult encode(const TargetMap& m, std::vector<std::byte>& out);
 // Allocation-free, into a caller-owned span (heartbeats and byes are sent while streaming);
 // return the bytes written, or 0 when `out` is too small.

@@ -96,10 +96,6 @@ bool is(std::uint8_t type, MessageType t) {
   return type == static_cast<std::uint8_t>(t);
 }
 
-std::string wire_message(std::string_view what, WireResult why) {
-  return std::string(what) + ": " + why.field + ": " + std::string(drop_reason_name(why.reason));
-}
-
 std::string cost_text(const KdfCost& c) {
   return std::to_string(c.opslimit) + " passes, " +
          (c.memlimit_kib % 1024 == 0 ? std::to_string(c.memlimit_kib / 1024) + " MiB"
@@ -647,20 +643,9 @@ bool RoomSession::send_tracking(const TrackingFrame& frame, double sampled) {
 }
 
 void RoomSession::set_hello(const Hello& hello) {
-  if (hello.site != config_.hello.site) {
-    throw Error("room: our hello cannot change the site's name ('" + config_.hello.site + "' to '" +
-                hello.site + "')");
-  }
   Hello ours = hello;
-  if (avatar_tx_.has_file()) {
-    ours.avatar.model = avatar_tx_.model();  // the file we send stays the one we name
-  }
-  std::vector<std::byte> bytes;
-  if (WireResult e = encode(ours, bytes); !e.ok()) {
-    throw Error(wire_message("room: our hello", e));
-  }
-  config_.hello = ours;
-  hello_bytes_ = std::move(bytes);
+  hello_bytes_ = encode_replacement_hello(config_.hello, ours, avatar_tx_.model(), "room");
+  config_.hello = std::move(ours);
   if (state_ == RoomState::kInRoom) {
     send_to_verified(Channel::kReliable, hello_bytes_);
   }

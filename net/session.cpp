@@ -65,10 +65,6 @@ constexpr int kMaxStrangerPackets = 4;
 // Failed proofs from an address are forgotten after this long without one (s).
 constexpr double kForgetFailuresAfter = 600.0;
 
-std::string wire_message(std::string_view what, WireResult why) {
-  return std::string(what) + ": " + why.field + ": " + std::string(drop_reason_name(why.reason));
-}
-
 // A packet's expected channel.
 Channel channel_of(std::uint8_t type) {
   return type == static_cast<std::uint8_t>(MessageType::kTracking) ? Channel::kTracking
@@ -310,21 +306,9 @@ Playout Session::next_frame(double now) {
 }
 
 void Session::set_hello(const Hello& hello) {
-  if (hello.site != config_.hello.site) {
-    // The handshake's proof carries our name; the peer refuses a hello under another one.
-    throw Error("session: our hello cannot change the site's name ('" + config_.hello.site +
-                "' to '" + hello.site + "')");
-  }
   Hello ours = hello;
-  if (avatar_tx_.has_file()) {
-    ours.avatar.model = avatar_tx_.model();  // the file we send stays the one we name
-  }
-  std::vector<std::byte> bytes;
-  if (WireResult e = encode(ours, bytes); !e.ok()) {
-    throw Error(wire_message("session: our hello", e));
-  }
+  hello_bytes_ = encode_replacement_hello(config_.hello, ours, avatar_tx_.model(), "session");
   config_.hello = std::move(ours);
-  hello_bytes_ = std::move(bytes);
   if (serving()) {
     send_reliable(hello_bytes_);
   }

@@ -288,7 +288,7 @@ class ScriptedSite {
       person.site = record_.peer_site;
       for (const PersonRecord& p : peer_.people().records()) {
         if (p.site == person.site) {
-          person.avatar = p.avatar;  // what they wore last
+          person.avatar = p.avatar;      // what they wore last
           person.height_m = p.height_m;  // and the body their last hello described
           person.arm_length_m = p.arm_length_m;
         }

@@ -11,8 +11,8 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -178,8 +178,7 @@ TEST_P(LivePeerLinks, ThePanelSaysWhatTheLinkDoesAndAStoppedStreamFadesOut) {
   BodyCalibration shorter = b.body;
   shorter.height -= 0.15f;
   pb.set_user(b.config, shorter);
-  while (std::abs(height_of_b_at_a() - static_cast<double>(shorter.height)) > 1e-6 &&
-         tick < 3300) {
+  while (std::abs(height_of_b_at_a() - static_cast<double>(shorter.height)) > 1e-6 && tick < 3300) {
     step();
   }
   EXPECT_NEAR(height_of_b_at_a(), static_cast<double>(shorter.height), 1e-6)
