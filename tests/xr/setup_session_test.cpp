@@ -146,6 +146,11 @@ TEST_F(SetupSession, ScriptedPressesPutTheObjectsWhereTheUserShowedThemWithinOne
   const TargetMap map = read_target_map(saved);
   const TargetMap original = read_target_map(testing::source_dir() / "assets/rooms/a.json");
   ASSERT_EQ(map.objects.size(), original.objects.size());
+  std::printf(
+      "placed: Jupiter %.2f mm, Saturn %.2f mm, TV %.2f mm from where the script put them\n",
+      1000.0 * static_cast<double>((map.objects[0].position - jupiter).norm()),
+      1000.0 * static_cast<double>((map.objects[1].position - saturn).norm()),
+      1000.0 * static_cast<double>((map.objects[2].position - tv).norm()));
   EXPECT_LT((map.objects[0].position - jupiter).norm(), 0.01f) << map.objects[0].position;
   EXPECT_LT((map.objects[1].position - saturn).norm(), 0.01f) << map.objects[1].position;
   EXPECT_LT((map.objects[2].position - tv).norm(), 0.01f) << map.objects[2].position;
