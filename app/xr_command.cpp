@@ -32,6 +32,7 @@
 #include "site/moe_weights.h"
 #include "site/presence_panel.h"
 #include "site/recorded_user.h"
+#include "site/room_setup.h"
 #include "site/site_config.h"
 #include "site/site_session.h"
 #include "xr/blend_mode.h"
@@ -454,55 +455,63 @@ int run_session(const XrRunOptions& o, XrAssets& a) {
   return status;
 }
 
+// What `--setup` reads before OpenXR starts: the site, and its map ready to edit (a map without
+// objects is refused there, naming the file).
+struct SetupAssets {
+  site::SiteConfig site;
+  site::RoomSetup setup;
+};
+
+SetupAssets load_setup(const XrRunOptions& o) {
+  site::SiteConfig site = site::read_site_config(o.site);
+  site::RoomSetup setup(site.target_map, xr_hand(o), site.target_map_path.string());
+  return {std::move(site), std::move(setup)};
+}
+
 // `--setup`: the room's target map set up from inside the headset (app/xr_setup.h); no network.
-int run_setup(const XrRunOptions& o, const site::SiteConfig& site) {
+int run_setup(const XrRunOptions& o, SetupAssets& a) {
   Headset headset(o);
-  const std::filesystem::path save = o.save.empty() ? site.target_map_path : o.save;
-  SetupSink sink(site, save, xr_hand(o), UprightBody{xr_hand(o), o.height, 0}, headset.renderer,
-                 headset.see_through, !o.no_panel);
-  std::printf("setting up %s (%zu objects), saving to %s\n", site.target_map_path.string().c_str(),
-              site.target_map.objects.size(), save.string().c_str());
+  const std::filesystem::path save = o.save.empty() ? a.site.target_map_path : o.save;
+  std::printf("setting up %s (%zu objects), saving to %s\n",
+              a.site.target_map_path.string().c_str(), a.site.target_map.objects.size(),
+              save.string().c_str());
   std::fflush(stdout);
+  SetupSink sink(std::move(a.setup), save, UprightBody{xr_hand(o), o.height, 0}, headset.renderer,
+                 headset.see_through, !o.no_panel);
   xr::FrameLoopResult result;
   const int status = headset.run(o.seconds, sink, result);
   sink.print_summary();
   return status;
 }
 
-}  // namespace
-
-int run_xr(const XrRunOptions& o) {
-  if (o.setup) {
-    std::optional<site::SiteConfig> site;
-    try {
-      site.emplace(site::read_site_config(o.site));
-      if (site->target_map.objects.empty()) {
-        throw Error(site->target_map_path.string() + ": objects: none to set up");
-      }
-    } catch (const Error& e) {
-      std::fprintf(stderr, "deixis xr: %s\n", e.what());
-      return 2;
-    }
-    try {
-      return run_setup(o, *site);
-    } catch (const Error& e) {
-      std::fprintf(stderr, "deixis xr: %s\n", e.what());
-      return 1;
-    }
-  }
-  std::optional<XrAssets> assets;
+// Reads what the run needs (a bad flag's file or a bad file: exit 2), then runs it (OpenXR or
+// the network failing: exit 1).
+template <class Load, class Run>
+int load_then_run(const Load& load, const Run& run) {
+  std::optional<decltype(load())> assets;
   try {
-    assets.emplace(load_assets(o));
+    assets.emplace(load());
   } catch (const Error& e) {
     std::fprintf(stderr, "deixis xr: %s\n", e.what());
     return 2;
   }
   try {
-    return run_session(o, *assets);
+    return run(*assets);
   } catch (const Error& e) {
     std::fprintf(stderr, "deixis xr: %s\n", e.what());
     return 1;
   }
+}
+
+}  // namespace
+
+int run_xr(const XrRunOptions& o) {
+  if (o.setup) {
+    return load_then_run([&] { return load_setup(o); },
+                         [&](SetupAssets& a) { return run_setup(o, a); });
+  }
+  return load_then_run([&] { return load_assets(o); },
+                       [&](XrAssets& a) { return run_session(o, a); });
 }
 
 }  // namespace deixis::app

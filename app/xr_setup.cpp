@@ -39,12 +39,11 @@ BodyCalibration calibrate_and_tell(const TrackingFrame& user, const UprightBody&
   return calibration;
 }
 
-SetupSink::SetupSink(const site::SiteConfig& site, fs::path save, Hand hand,
-                     const UprightBody& body, render::Renderer& renderer, bool see_through,
-                     bool panel)
-    : setup_(site.target_map, hand, site.target_map_path.string()),
+SetupSink::SetupSink(site::RoomSetup setup, fs::path save, const UprightBody& body,
+                     render::Renderer& renderer, bool see_through, bool panel)
+    : setup_(std::move(setup)),
       save_(std::move(save)),
-      hand_(hand),
+      hand_(body.deictic_hand),
       body_(body),
       renderer_(renderer),
       see_through_(see_through),

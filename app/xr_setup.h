@@ -22,7 +22,6 @@
 #include "render/renderer.h"
 #include "render/scene.h"
 #include "site/room_setup.h"
-#include "site/site_config.h"
 #include "xr/frame_loop.h"
 
 namespace deixis::app {
@@ -41,10 +40,11 @@ BodyCalibration calibrate_and_tell(const TrackingFrame& user, const UprightBody&
 
 class SetupSink final : public xr::FrameSink {
  public:
-  // Saves to `save` (the site's target map file by default: later sessions read it); the file
-  // it replaces is kept once as `<save>.bak`. Throws deixis::Error when the map has no objects.
-  SetupSink(const site::SiteConfig& site, std::filesystem::path save, Hand hand,
-            const UprightBody& body, render::Renderer& renderer, bool see_through, bool panel);
+  // Edits `setup`'s map (the site's, checked when it was made); saves to `save` (the site's
+  // target map file by default: later sessions read it), the file it replaces kept once as
+  // `<save>.bak`.
+  SetupSink(site::RoomSetup setup, std::filesystem::path save, const UprightBody& body,
+            render::Renderer& renderer, bool see_through, bool panel);
 
   void on_frame(const xr::FrameInfo& frame, const TrackingFrame& user) override;
   void render_view(std::uint32_t view, const render::Camera& camera,
