@@ -50,10 +50,7 @@ SetupSink::SetupSink(site::RoomSetup setup, fs::path save, const UprightBody& bo
       show_panel_(panel) {
   // Room for every object's outline and the ray, once: nothing grows per frame.
   lines_.resize(setup_.map().objects.size() * render::kMaxOutlineLines + 1);
-  for (std::size_t i = 0; i < panel_lines_.size(); ++i) {
-    panel_lines_[i] = panel_text_[i];
-  }
-  refresh_panel();
+  refresh_panel();  // the panel's first text (nothing shown yet: every field differs)
   build_outlines();
 }
 
