@@ -480,8 +480,8 @@ int run_setup(const XrRunOptions& o, SetupAssets& a) {
                  headset.see_through, !o.no_panel);
   xr::FrameLoopResult result;
   const int status = headset.run(o.seconds, sink, result);
-  sink.print_summary();
-  return status;
+  const bool all_saved = sink.print_summary();
+  return status != 0 ? status : (all_saved ? 0 : 1);
 }
 
 // Reads what the run needs (a bad flag's file or a bad file: exit 2), then runs it (OpenXR or

@@ -160,13 +160,18 @@ void SetupSink::render_view(std::uint32_t, const render::Camera& camera,
   renderer_.render(view, target);
 }
 
-void SetupSink::print_summary() const {
-  if (saved_edits_ == 0) {
-    std::printf("setup: %llu edits, %s left as it was\n",
-                static_cast<unsigned long long>(setup_.edits()), save_.string().c_str());
+bool SetupSink::print_summary() const {
+  const auto edits = static_cast<unsigned long long>(setup_.edits());
+  const auto unsaved = edits - static_cast<unsigned long long>(saved_edits_);
+  if (edits == 0) {
+    std::printf("setup: 0 edits, %s left as it was\n", save_.string().c_str());
+  } else if (unsaved == 0) {
+    std::printf("setup: %llu edits, saved to %s\n", edits, save_.string().c_str());
   } else {
-    std::printf("setup: %llu edits, saved to %s\n", static_cast<unsigned long long>(saved_edits_),
-                save_.string().c_str());
+    // The last save failed (said on the panel and stderr as it happened); the objects as set are
+    // printed below, so that nothing the user did is lost.
+    std::printf("setup: %llu edits, the last %llu NOT SAVED to %s (%s); the objects as set:\n",
+                edits, unsaved, save_.string().c_str(), save_status_.c_str());
   }
   for (const TargetObject& o : setup_.map().objects) {
     std::printf("object %d %s: position [%.3f, %.3f, %.3f], size [%.3f, %.3f, %.3f]\n", o.id,
@@ -175,6 +180,7 @@ void SetupSink::print_summary() const {
                 static_cast<double>(o.size.x()), static_cast<double>(o.size.y()),
                 static_cast<double>(o.size.z()));
   }
+  return unsaved == 0;
 }
 
 }  // namespace deixis::app

@@ -50,8 +50,9 @@ class SetupSink final : public xr::FrameSink {
   void render_view(std::uint32_t view, const render::Camera& camera,
                    const render::RenderTarget& target) override;
 
-  // What was set up, and where it went.
-  void print_summary() const;
+  // What was set up, and where it went; false when edits are left unsaved (the last save
+  // failed), whose objects it prints as they were set.
+  bool print_summary() const;
 
  private:
   void save();

@@ -184,8 +184,14 @@ void BM_PeopleTick(benchmark::State& state) {
 // The product every batched layer is made of, at the size of UGNet MoE's first layer for 64
 // people (64 × 264 inputs by the 264 × 1,296 outputs of its nine experts, in its panels of 48):
 // the arithmetic rate the batched networks can reach (counter GFMA_per_s, of CPU time).
+// UGNet's first expert layer for 64 people, through the build's kernels (0) or AVX-512's (1).
 void BM_BatchProduct(benchmark::State& state) {
   constexpr int kRows = 64, kDepth = 264, kCols = 1296, kPanel = 48;
+  const auto kernel = state.range(0) == 0 ? nn::ProductKernel::kBuild : nn::ProductKernel::kAvx512;
+  if (!nn::product_kernel_available(kernel)) {
+    state.SkipWithError("this CPU has no AVX-512F");
+    return;
+  }
   std::vector<float> a(kRows * kDepth), w(kDepth * kCols), c(kRows * kCols);
   for (std::size_t i = 0; i < a.size(); ++i) {
     a[i] = 0.001f * static_cast<float>(i % 97);
@@ -195,7 +201,7 @@ void BM_BatchProduct(benchmark::State& state) {
   }
   for (auto _ : state) {
     for (int p = 0; p < kCols / kPanel; ++p) {
-      nn::multiply_rows(a.data(), kDepth, w.data() + static_cast<std::size_t>(p) * kDepth * kPanel,
+      nn::multiply_rows(kernel, a.data(), kDepth, w.data() + static_cast<std::size_t>(p) * kDepth * kPanel,
                         kPanel, c.data() + p * kPanel, kCols, kRows, kDepth, kPanel);
     }
     benchmark::DoNotOptimize(c.data());
@@ -206,7 +212,7 @@ void BM_BatchProduct(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_BatchProduct)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BatchProduct)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_TranslatorTick)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RemoteAvatarTick)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PeopleTick)->Arg(1)->Arg(4)->Arg(16)->Arg(64)->Unit(benchmark::kMicrosecond);

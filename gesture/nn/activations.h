@@ -6,10 +6,12 @@
 
 namespace deixis::nn {
 
-// ELU with α = 1: x for x > 0, exp(x) − 1 otherwise (torch.nn.ELU uses expm1).
+// ELU with α = 1: x for x > 0, exp(x) − 1 otherwise (torch.nn.ELU uses expm1). Element by
+// element, so that expm1 (the C library's, one value at a time) runs only where it is used:
+// an array select evaluates both sides everywhere, which made expm1 7 % of a 64-person tick.
 template <typename Derived>
 void elu_inplace(Eigen::MatrixBase<Derived>& x) {
-  x = (x.array() > 0.0f).select(x.array(), x.array().expm1()).matrix();
+  x = x.unaryExpr([](float v) { return v > 0.0f ? v : std::expm1(v); });
 }
 
 template <typename Derived>

@@ -1,6 +1,18 @@
 #include "gesture/nn/batch.h"
 
-#if defined(__AVX2__) && defined(__FMA__)
+#include <cmath>
+#include <cstddef>
+#include <utility>
+
+// The AVX-512 kernels are compiled for that target whatever the build's -march, and chosen at run
+// time (GCC and Clang on x86-64).
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define DEIXIS_AVX512_KERNEL 1
+#else
+#define DEIXIS_AVX512_KERNEL 0
+#endif
+
+#if (defined(__AVX2__) && defined(__FMA__)) || DEIXIS_AVX512_KERNEL
 #include <immintrin.h>
 #endif
 
@@ -113,6 +125,92 @@ void column_block16(const float* a, std::size_t lda, const float* w, std::size_t
 }
 #endif
 
+#if DEIXIS_AVX512_KERNEL
+// The same products with AVX-512, chosen at run time where the CPU has it (the build stays
+// x86-64-v3; docs/scaling.md). A block is R ≤ 8 rows × Z ≤ 3 vectors of 16 columns, so up to 24
+// accumulators of the 32 registers. Each lane is the same fmadd chain over i in the same order as
+// the AVX2 kernels', so the bits are the same whichever kernel runs (the AVX2 build's narrow
+// remainders are the same fused multiply-adds, one lane or one value at a time). The accumulators are an array indexed
+// only through pack expansions (no loop over them), so the compiler can keep them in registers
+// (batch_test's kernel comparison and translator_bench's BM_BatchProduct say whether it did).
+#define DEIXIS_AVX512_TARGET __attribute__((target("avx512f")))
+
+template <int R, int Z, std::size_t... V, std::size_t... K>
+DEIXIS_AVX512_TARGET inline void zblock(const float* a, std::size_t lda, const float* w,
+                                        std::size_t ldw, float* c, std::size_t ldc, int depth,
+                                        __mmask16 last, std::index_sequence<V...>,
+                                        std::index_sequence<K...>) noexcept {
+  // Accumulator K holds row K / Z, columns [16·(K % Z), 16·(K % Z) + 16); of the last vector
+  // only the columns in `last` are read and written.
+  constexpr auto mask = [](std::size_t v, __mmask16 last_mask) {
+    return v + 1 == Z ? last_mask : static_cast<__mmask16>(0xffff);
+  };
+  __m512 acc[R * Z];
+  ((acc[K] = _mm512_setzero_ps()), ...);
+  for (int i = 0; i < depth; ++i) {
+    __m512 wv[Z];
+    ((wv[V] = _mm512_maskz_loadu_ps(mask(V, last), w + 16 * V)), ...);
+    w += ldw;
+    ((acc[K] = _mm512_fmadd_ps(_mm512_set1_ps(a[(K / Z) * lda + i]), wv[K % Z], acc[K])), ...);
+  }
+  (_mm512_mask_storeu_ps(c + (K / Z) * ldc + 16 * (K % Z), mask(K % Z, last), acc[K]), ...);
+}
+
+template <int R, int Z>
+DEIXIS_AVX512_TARGET void zblock(const float* a, std::size_t lda, const float* w,
+                                 std::size_t ldw, float* c, std::size_t ldc, int depth,
+                                 __mmask16 last) noexcept {
+  zblock<R, Z>(a, lda, w, ldw, c, ldc, depth, last, std::make_index_sequence<Z>{},
+               std::make_index_sequence<static_cast<std::size_t>(R * Z)>{});
+}
+
+// Z vectors of 16 columns of every row (the last one's columns as `last` says), eight rows at a
+// time.
+template <int Z>
+DEIXIS_AVX512_TARGET void column_zblock(const float* a, std::size_t lda, const float* w,
+                                        std::size_t ldw, float* c, std::size_t ldc, int rows,
+                                        int depth, __mmask16 last) noexcept {
+  constexpr int kRows = 8;
+  int r = 0;
+  for (; r + kRows <= rows; r += kRows) {
+    zblock<kRows, Z>(a + r * lda, lda, w, ldw, c + r * ldc, ldc, depth, last);
+  }
+  using Block = void (*)(const float*, std::size_t, const float*, std::size_t, float*, std::size_t,
+                         int, __mmask16) noexcept;
+  static constexpr Block kNarrower[kRows] = {nullptr,      zblock<1, Z>, zblock<2, Z>,
+                                             zblock<3, Z>, zblock<4, Z>, zblock<5, Z>,
+                                             zblock<6, Z>, zblock<7, Z>};
+  if (r < rows) {
+    kNarrower[rows - r](a + r * lda, lda, w, ldw, c + r * ldc, ldc, depth, last);
+  }
+}
+
+// Every column: groups of 48, then the rest (1 to 47 columns) as one group of up to three
+// vectors, the last masked, so that no row is ever done alone or a column one value at a time.
+DEIXIS_AVX512_TARGET void multiply_rows_avx512(const float* a, std::size_t lda, const float* w,
+                                               std::size_t ldw, float* c, std::size_t ldc,
+                                               int rows, int depth, int cols) noexcept {
+  constexpr __mmask16 kFull = 0xffff;
+  int j = 0;
+  for (; j + 48 <= cols; j += 48) {
+    column_zblock<3>(a, lda, w + j, ldw, c + j, ldc, rows, depth, kFull);
+  }
+  const int rest = cols - j;
+  if (rest == 0) {
+    return;
+  }
+  const int tail = rest - 16 * ((rest - 1) / 16);  // 1 to 16 columns in the last vector
+  const auto last = static_cast<__mmask16>(tail == 16 ? kFull : (1u << tail) - 1u);
+  if (rest > 32) {
+    column_zblock<3>(a, lda, w + j, ldw, c + j, ldc, rows, depth, last);
+  } else if (rest > 16) {
+    column_zblock<2>(a, lda, w + j, ldw, c + j, ldc, rows, depth, last);
+  } else {
+    column_zblock<1>(a, lda, w + j, ldw, c + j, ldc, rows, depth, last);
+  }
+}
+#endif
+
 // Columns [from, to) one value at a time (narrow remainders, and builds without AVX2).
 void scalar_columns(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
                     std::size_t ldc, int rows, int depth, int from, int to) noexcept {
@@ -121,7 +219,13 @@ void scalar_columns(const float* a, std::size_t lda, const float* w, std::size_t
     for (int j = from; j < to; ++j) {
       float sum = 0.0f;
       for (int i = 0; i < depth; ++i) {
+#if defined(__FMA__)
+        // Fused, as every lane of the vector kernels is, so a column's bits do not depend on
+        // which kernel reached it.
+        sum = std::fma(ar[i], w[static_cast<std::size_t>(i) * ldw + j], sum);
+#else
         sum += ar[i] * w[static_cast<std::size_t>(i) * ldw + j];
+#endif
       }
       c[static_cast<std::size_t>(r) * ldc + j] = sum;
     }
@@ -130,8 +234,41 @@ void scalar_columns(const float* a, std::size_t lda, const float* w, std::size_t
 
 }  // namespace
 
+bool product_kernel_available(ProductKernel kernel) noexcept {
+  switch (kernel) {
+    case ProductKernel::kBuild:
+      return true;
+    case ProductKernel::kAvx512:
+#if DEIXIS_AVX512_KERNEL
+      return __builtin_cpu_supports("avx512f") != 0;
+#else
+      return false;
+#endif
+  }
+  return false;
+}
+
+ProductKernel best_product_kernel() noexcept {
+  return product_kernel_available(ProductKernel::kAvx512) ? ProductKernel::kAvx512
+                                                          : ProductKernel::kBuild;
+}
+
 void multiply_rows(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
                    std::size_t ldc, int rows, int depth, int cols) noexcept {
+  multiply_rows(best_product_kernel(), a, lda, w, ldw, c, ldc, rows, depth, cols);
+}
+
+void multiply_rows(ProductKernel kernel, const float* a, std::size_t lda, const float* w,
+                   std::size_t ldw, float* c, std::size_t ldc, int rows, int depth,
+                   int cols) noexcept {
+#if DEIXIS_AVX512_KERNEL
+  if (kernel == ProductKernel::kAvx512) {
+    multiply_rows_avx512(a, lda, w, ldw, c, ldc, rows, depth, cols);
+    return;
+  }
+#else
+  (void)kernel;
+#endif
   int j = 0;
 #if defined(__AVX2__) && defined(__FMA__)
   if (rows == 1) {

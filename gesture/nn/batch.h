@@ -43,7 +43,21 @@ class BatchBuffers {
 // rows by sixteen columns in registers. Every result is the same chain of multiply-adds over i
 // in order, whatever the number of rows and wherever the row sits in the batch, so a person's
 // results are bit for bit the same alone (rows = 1, the networks' run()) as in any batch.
+//
+// Where the CPU has AVX-512 (checked at run time; the build itself targets x86-64-v3), whole
+// groups of 16 columns go through 512-bit kernels: the same chains of multiply-adds, so the same
+// bits, at up to twice the arithmetic per instruction (docs/scaling.md).
 void multiply_rows(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
                    std::size_t ldc, int rows, int depth, int cols) noexcept;
+
+// The kernels multiply_rows chooses between: kBuild is what the build targets (AVX2 + FMA, or
+// portable code), kAvx512 adds 512-bit kernels (x86-64 with GCC or Clang, on a CPU with
+// AVX-512F). Named for tests and benchmarks, which compare them.
+enum class ProductKernel { kBuild, kAvx512 };
+bool product_kernel_available(ProductKernel kernel) noexcept;
+ProductKernel best_product_kernel() noexcept;  // kAvx512 where available
+void multiply_rows(ProductKernel kernel, const float* a, std::size_t lda, const float* w,
+                   std::size_t ldw, float* c, std::size_t ldc, int rows, int depth,
+                   int cols) noexcept;
 
 }  // namespace deixis::nn

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <string>
 #include <vector>
@@ -222,6 +223,35 @@ TEST(OtherArchitectures, DiffusionTakesEachPersonsDraws) {
   const Ugnet ugnet = Ugnet::load(authors("right") / "UGNet(Diffusion)(AC)120.safetensors");
   EXPECT_EQ(ugnet_batch_error(ugnet, random_windows(8, kUgnetColumns, -1.0f, 1.0f, 15), true),
             0.0f);
+}
+
+// The AVX-512 kernels (chosen at run time where the CPU has them) give the build's kernels' bits
+// for every shape the networks use and the awkward ones around them: rows that fill no block or
+// several, columns that leave 8- and 1-wide remainders, strided rows.
+TEST(Products, Avx512KernelsGiveTheBuildKernelsBits) {
+  if (!product_kernel_available(ProductKernel::kAvx512)) {
+    GTEST_SKIP() << "this CPU has no AVX-512F; the build's kernels are the only ones";
+  }
+  std::mt19937 random(21);
+  std::uniform_real_distribution<float> value(-2.0f, 2.0f);
+  for (const int rows : {1, 2, 5, 7, 8, 9, 13, 64}) {
+    for (const int cols : {8, 16, 27, 32, 40, 48, 64, 72, 96, 112}) {
+      const int depth = 37;
+      const std::size_t lda = depth + 3, ldc = static_cast<std::size_t>(cols) + 5;
+      std::vector<float> a(rows * lda), w(static_cast<std::size_t>(depth) * cols);
+      std::generate(a.begin(), a.end(), [&] { return value(random); });
+      std::generate(w.begin(), w.end(), [&] { return value(random); });
+      std::vector<float> build(rows * ldc, -1.0f), wide(rows * ldc, -1.0f);
+      multiply_rows(ProductKernel::kBuild, a.data(), lda, w.data(), cols, build.data(), ldc, rows,
+                    depth, cols);
+      multiply_rows(ProductKernel::kAvx512, a.data(), lda, w.data(), cols, wide.data(), ldc, rows,
+                    depth, cols);
+      // Bits, not values: -1 in the padding stays, and every product agrees exactly.
+      EXPECT_EQ(std::memcmp(build.data(), wide.data(), build.size() * sizeof(float)), 0)
+          << rows << " rows × " << cols << " columns";
+      EXPECT_NE(build[0], -1.0f);
+    }
+  }
 }
 
 TEST(Batch, SameWeightsTellsHandlesApart) {

@@ -203,6 +203,38 @@ TEST_F(SetupSession, ByDefaultTheSitesMapIsReplacedAndThePreviousKept) {
   EXPECT_EQ(to_json(before), to_json(original));
 }
 
+// A save that fails (here the folder it names is a file, which even root cannot write into) is
+// said as it happens; the session goes on, the summary prints every object as set and says the
+// edits were not saved, and the exit status is 1.
+TEST_F(SetupSession, ASaveThatFailsIsSaidAndTheObjectsArePrinted) {
+  std::ofstream(dir_ / "not-a-folder") << "a file";
+  const std::filesystem::path save = dir_ / "not-a-folder" / "map.json";
+  ScriptBuilder s;
+  s.key(0.0, kEye, kEye + Vec3(0.2f, -0.75f, 0));
+  s.press(1.0, kEye, Vec3(0.5f, 1.3f, -0.5f), "right", "select");
+  s.key(2.0, kEye, kEye + Vec3(0.2f, -0.75f, 0));
+  write_script(s.script(2.0, "{}"));
+  app::Deixis xr({"xr", "--setup", "--site", app::site("a.json").string(), "--save", save.string()});
+  EXPECT_EQ(xr.wait(), 1) << xr.out() << xr.err();
+  EXPECT_NE(xr.err().find("NOT SAVED"), std::string::npos) << xr.err();
+  EXPECT_NE(xr.out().find("setup: 1 edits, the last 1 NOT SAVED to " + save.string()),
+            std::string::npos)
+      << xr.out();
+  // The object touched is printed where the fingertip put it (its near surface at the tip).
+  const TargetMap original = read_target_map(testing::source_dir() / "assets/rooms/a.json");
+  const TargetObject& first = original.objects[0];
+  std::smatch m;
+  const std::string out = xr.out();
+  ASSERT_TRUE(std::regex_search(
+      out, m,
+      std::regex("object " + std::to_string(first.id) +
+                 " [^:]*: position \\[([-0-9.]+), ([-0-9.]+), ([-0-9.]+)\\]")))
+      << out;
+  const Vec3 printed(std::stof(m[1]), std::stof(m[2]), std::stof(m[3]));
+  EXPECT_GT((printed - first.position).norm(), 0.05f) << "the edit is in what was printed";
+  EXPECT_FALSE(std::filesystem::exists(save));
+}
+
 TEST_F(SetupSession, BadCombinationsAndAnEmptyMapExitTwoSayingWhy) {
   write_script(R"({"display_hz": 30, "frames": 30, "keys": [{"t": 0}]})");
   app::Deixis networked({"xr", "--setup", "--join", "127.0.0.1:9"});
