@@ -201,8 +201,9 @@ void BM_BatchProduct(benchmark::State& state) {
   }
   for (auto _ : state) {
     for (int p = 0; p < kCols / kPanel; ++p) {
-      nn::multiply_rows(kernel, a.data(), kDepth, w.data() + static_cast<std::size_t>(p) * kDepth * kPanel,
-                        kPanel, c.data() + p * kPanel, kCols, kRows, kDepth, kPanel);
+      nn::multiply_rows(kernel, a.data(), kDepth,
+                        w.data() + static_cast<std::size_t>(p) * kDepth * kPanel, kPanel,
+                        c.data() + p * kPanel, kCols, kRows, kDepth, kPanel);
     }
     benchmark::DoNotOptimize(c.data());
   }

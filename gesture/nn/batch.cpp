@@ -130,9 +130,10 @@ void column_block16(const float* a, std::size_t lda, const float* w, std::size_t
 // x86-64-v3; docs/scaling.md). A block is R ≤ 8 rows × Z ≤ 3 vectors of 16 columns, so up to 24
 // accumulators of the 32 registers. Each lane is the same fmadd chain over i in the same order as
 // the AVX2 kernels', so the bits are the same whichever kernel runs (the AVX2 build's narrow
-// remainders are the same fused multiply-adds, one lane or one value at a time). The accumulators are an array indexed
-// only through pack expansions (no loop over them), so the compiler can keep them in registers
-// (batch_test's kernel comparison and translator_bench's BM_BatchProduct say whether it did).
+// remainders are the same fused multiply-adds, one lane or one value at a time). The accumulators
+// are an array indexed only through pack expansions (no loop over them), so the compiler can keep
+// them in registers (batch_test's kernel comparison and translator_bench's BM_BatchProduct say
+// whether it did).
 #define DEIXIS_AVX512_TARGET __attribute__((target("avx512f")))
 
 template <int R, int Z, std::size_t... V, std::size_t... K>
@@ -157,9 +158,8 @@ DEIXIS_AVX512_TARGET inline void zblock(const float* a, std::size_t lda, const f
 }
 
 template <int R, int Z>
-DEIXIS_AVX512_TARGET void zblock(const float* a, std::size_t lda, const float* w,
-                                 std::size_t ldw, float* c, std::size_t ldc, int depth,
-                                 __mmask16 last) noexcept {
+DEIXIS_AVX512_TARGET void zblock(const float* a, std::size_t lda, const float* w, std::size_t ldw,
+                                 float* c, std::size_t ldc, int depth, __mmask16 last) noexcept {
   zblock<R, Z>(a, lda, w, ldw, c, ldc, depth, last, std::make_index_sequence<Z>{},
                std::make_index_sequence<static_cast<std::size_t>(R * Z)>{});
 }
@@ -188,8 +188,8 @@ DEIXIS_AVX512_TARGET void column_zblock(const float* a, std::size_t lda, const f
 // Every column: groups of 48, then the rest (1 to 47 columns) as one group of up to three
 // vectors, the last masked, so that no row is ever done alone or a column one value at a time.
 DEIXIS_AVX512_TARGET void multiply_rows_avx512(const float* a, std::size_t lda, const float* w,
-                                               std::size_t ldw, float* c, std::size_t ldc,
-                                               int rows, int depth, int cols) noexcept {
+                                               std::size_t ldw, float* c, std::size_t ldc, int rows,
+                                               int depth, int cols) noexcept {
   constexpr __mmask16 kFull = 0xffff;
   int j = 0;
   for (; j + 48 <= cols; j += 48) {

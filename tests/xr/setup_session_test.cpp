@@ -214,7 +214,8 @@ TEST_F(SetupSession, ASaveThatFailsIsSaidAndTheObjectsArePrinted) {
   s.press(1.0, kEye, Vec3(0.5f, 1.3f, -0.5f), "right", "select");
   s.key(2.0, kEye, kEye + Vec3(0.2f, -0.75f, 0));
   write_script(s.script(2.0, "{}"));
-  app::Deixis xr({"xr", "--setup", "--site", app::site("a.json").string(), "--save", save.string()});
+  app::Deixis xr(
+      {"xr", "--setup", "--site", app::site("a.json").string(), "--save", save.string()});
   EXPECT_EQ(xr.wait(), 1) << xr.out() << xr.err();
   EXPECT_NE(xr.err().find("NOT SAVED"), std::string::npos) << xr.err();
   EXPECT_NE(xr.out().find("setup: 1 edits, the last 1 NOT SAVED to " + save.string()),
@@ -225,10 +226,10 @@ TEST_F(SetupSession, ASaveThatFailsIsSaidAndTheObjectsArePrinted) {
   const TargetObject& first = original.objects[0];
   std::smatch m;
   const std::string out = xr.out();
-  ASSERT_TRUE(std::regex_search(
-      out, m,
-      std::regex("object " + std::to_string(first.id) +
-                 " [^:]*: position \\[([-0-9.]+), ([-0-9.]+), ([-0-9.]+)\\]")))
+  ASSERT_TRUE(
+      std::regex_search(out, m,
+                        std::regex("object " + std::to_string(first.id) +
+                                   " [^:]*: position \\[([-0-9.]+), ([-0-9.]+), ([-0-9.]+)\\]")))
       << out;
   const Vec3 printed(std::stof(m[1]), std::stof(m[2]), std::stof(m[3]));
   EXPECT_GT((printed - first.position).norm(), 0.05f) << "the edit is in what was printed";
