@@ -786,6 +786,12 @@ void add_eval(CLI::App& program, const Invocation& invocation, std::vector<Runne
   cmd->add_option("--seed", live->seed, "With --live-rooms: the seed the rooms are laid out from")
       ->capture_default_str()
       ->needs(live_rooms);
+  cmd->add_option("--rules", live->rules,
+                  "With --live-rooms: a JSON file of room rules to lay the pairs out by instead of "
+                  "the defaults (docs/live-rooms.md, 'Other rules'); any field left out keeps its "
+                  "default")
+      ->check(CLI::ExistingFile)
+      ->needs(live_rooms);
   cmd->add_option("--pair-timeout", live->timeout,
                   "With --live-rooms: seconds a pair's two sites may take")
       ->capture_default_str()

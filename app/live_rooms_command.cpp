@@ -18,6 +18,7 @@
 #include "core/error.h"
 #include "eval/live_rooms.h"
 #include "eval/room_pairs.h"
+#include "eval/room_rules_file.h"
 
 namespace deixis::app {
 
@@ -159,10 +160,21 @@ int run_eval_live_rooms(const LiveRoomsOptions& o) {
     std::fprintf(stderr, "deixis eval: --subjects: %s\n", e.what());
     return 2;
   }
+  eval::RoomRules rules;
+  try {
+    if (!o.rules.empty()) {
+      rules = eval::read_room_rules(o.rules);
+    }
+    // Rules that leave no room are refused now, naming the rule, not after a pair has run.
+    const auto [a, b] = performers(names, o.seed, 0);
+    static_cast<void>(eval::generate_room_pair(rules, o.seed, 0, a, b));
+  } catch (const Error& e) {
+    std::fprintf(stderr, "deixis eval: --rules: %s\n", e.what());
+    return 2;
+  }
   try {
     const fs::path self = own_executable();
     pass_passphrase(fresh_passphrase());
-    const eval::RoomRules rules;
     std::vector<eval::LiveCompletion> completions;
     std::vector<eval::TouchTally> touches;
     for (int k = 0; k < o.pairs; ++k) {
@@ -185,7 +197,8 @@ int run_eval_live_rooms(const LiveRoomsOptions& o) {
       touches.push_back(tally_touches(pair, 1, session_b, session_a));
       std::printf("  %zu completions observed\n", completions.size() - before);
     }
-    const eval::LiveSummary summary = eval::summarize(completions, touches, o.pairs);
+    eval::LiveSummary summary = eval::summarize(completions, touches, o.pairs);
+    summary.rules = eval::room_rules_json(rules);
     const fs::path md = o.out_dir / "live_rooms.md";
     std::ofstream(md) << eval::live_rooms_markdown(summary, o.command_line);
     eval::write_live_rooms_json(summary, completions, touches, o.out_dir / "live_rooms.json");

@@ -287,6 +287,9 @@ std::string live_rooms_markdown(const LiveSummary& s, const std::string& command
      << " room pairs (docs/live-rooms.md), every completion state each site's observer "
         "recorded of the other person. Angles in degrees, touch in cm; copy-paste is the "
         "person's pose copied onto the avatar's spot unchanged.\n\n";
+  if (!s.rules.empty()) {
+    md << "Room rules: `" << s.rules << "`\n\n";
+  }
   md << "### Pointing\n\n";
   pointing_table(md, {s.all}, "completions");
   md << "### Touching\n\n| | n | mean | median | p90 | worst | copy mean |\n"
@@ -369,6 +372,7 @@ void write_live_rooms_json(const LiveSummary& s, const std::vector<LiveCompletio
                        {"observed", t.observed}});
   }
   const json out = {{"pairs", s.pairs},
+                    {"rules", s.rules.empty() ? json(nullptr) : json::parse(s.rules)},
                     {"all", group_json(s.all)},
                     {"stages",
                      {{"person_he_deg", distribution_json(s.stages.person_he)},

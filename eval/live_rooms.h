@@ -78,6 +78,7 @@ struct LiveSummary {
   std::vector<LiveGroup> by_azimuth;    // |azimuth| from where the avatar faces
   int touches_performed = 0;
   int touches_observed = 0;
+  std::string rules;  // the room rules the pairs were laid out by, as JSON (room_rules_file.h)
 };
 
 // `worst` points into `completions`, which must outlive the summary.

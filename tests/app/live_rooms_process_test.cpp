@@ -78,7 +78,13 @@ TEST(LiveRoomsProcess, BadFlagsExit2NamingThem) {
       {{"eval", "--seed", "3"}, "--live-rooms"},  // a seed means nothing without rooms
       {{"eval", "--live-rooms", "1", "--subjects", "999", "--out", dir.path().string()}, "999"},
       {{"eval", "--live-rooms", "1", "--pair-timeout", "1"}, "--pair-timeout"},
+      {{"eval", "--live-rooms", "1", "--rules", (dir.path() / "none.json").string()}, "--rules"},
+      {{"eval", "--live-rooms", "1", "--rules", (dir.path() / "rules.json").string(), "--out",
+        dir.path().string()},
+       "point_height"},
   };
+  std::ofstream(dir.path() / "rules.json")
+      << R"({"format": "deixis-room-rules", "version": 1, "point_height": [2.0, 1.0]})";
   for (const auto& [args, named] : cases) {
     Deixis eval(args);
     EXPECT_EQ(eval.wait(), 2) << eval.err();

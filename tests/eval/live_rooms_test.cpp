@@ -6,11 +6,15 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "core/math/angles.h"
 #include "eval/live_rooms.h"
 #include "eval/room_pairs.h"
+#include "eval/room_rules_file.h"
 #include "site/site_config.h"
 #include "test_support.h"
 
@@ -53,8 +57,7 @@ TEST(RoomPairs, TheSameSeedAndIndexGiveTheSamePairAndOthersDiffer) {
   EXPECT_GT((object(a.rooms[0], 1).position - object(a.rooms[1], 1).position).norm(), 0.05f);
 }
 
-TEST(RoomPairs, EveryRoomKeepsToTheRules) {
-  const RoomRules rules;
+void expect_rooms_keep_to(const RoomRules& rules) {
   for (int index = 0; index < 200; ++index) {
     SCOPED_TRACE(index);
     const RoomPair pair = generate_room_pair(rules, 11, index, kRight, kLeft);
@@ -100,6 +103,64 @@ TEST(RoomPairs, EveryRoomKeepsToTheRules) {
       }
     }
   }
+}
+
+TEST(RoomPairs, EveryRoomKeepsToTheRules) {
+  expect_rooms_keep_to(RoomRules{});
+}
+
+fs::path write_rules(const deixis::testing::ScratchDir& dir, const std::string& text) {
+  const fs::path file = dir.path() / "rules.json";
+  std::ofstream(file) << text;
+  return file;
+}
+
+// Other rules from a file (`--rules`): the fields given replace the defaults, the rest stay, and
+// the rooms keep to them; what a report prints reads back as the same rules.
+TEST(RoomRulesFile, TheFieldsGivenReplaceTheDefaultsAndTheRoomsKeepToThem) {
+  deixis::testing::ScratchDir dir;
+  const RoomRules low = read_room_rules(write_rules(dir, R"({"format": "deixis-room-rules",
+      "version": 1, "point_height": [0.9, 1.1], "spot_distance": [2.4, 3.0],
+      "point_azimuth_min_deg": 35, "touch_height": [0.9, 1.0]})"));
+  EXPECT_EQ(low.point_height_min, 0.9f);
+  EXPECT_EQ(low.point_height_max, 1.1f);
+  EXPECT_EQ(low.spot_distance_min, 2.4f);
+  EXPECT_EQ(low.point_azimuth_min_deg, 35.0f);
+  EXPECT_EQ(low.touch_height_max, 1.0f);
+  EXPECT_EQ(low.point_distance_max, RoomRules{}.point_distance_max);  // not given: the default
+  expect_rooms_keep_to(low);
+  const RoomRules again = read_room_rules(write_rules(dir, room_rules_json(low)));
+  EXPECT_EQ(room_rules_json(again), room_rules_json(low));
+  EXPECT_EQ(again.point_height_max, 1.1f);
+}
+
+TEST(RoomRulesFile, BadFilesAreRefusedNamingTheFileAndTheField) {
+  deixis::testing::ScratchDir dir;
+  const std::string head = R"({"format": "deixis-room-rules", "version": 1, )";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {head + R"("point_hieght": [1, 2]})", "unknown field 'point_hieght'"},
+      {head + R"("point_height": [1, "2"]})", "point_height[1]: not a number"},
+      {head + R"("point_height": [1]})", "point_height: expected [min, max]"},
+      {head + R"("point_height": [2, 1]})", "point_height: minimum above maximum"},
+      {head + R"("point_distance": [1, 1e9]})", "point_distance[1]: 1000000000.0 is outside"},
+      {head + R"("between_margin": -0.1})", "between_margin: -0.1 is outside"},
+      {head + R"("min_separation": null})", "min_separation: not a number"},
+      {R"({"format": "deixis-target-map", "version": 1})", "deixis-room-rules"},
+      {R"({"format": "deixis-room-rules", "version": 2})", "\"version\": 1"},
+      {"[1, 2", "not a JSON object"},
+      {std::string(70 * 1024, ' ') + "{}", "larger than 65536 bytes"},
+  };
+  for (const auto& [text, named] : cases) {
+    const fs::path file = write_rules(dir, text);
+    try {
+      read_room_rules(file);
+      ADD_FAILURE() << "accepted: " << text.substr(0, 100);
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(read_room_rules(dir.path() / "missing.json"), Error);
 }
 
 TEST(RoomPairs, RulesThatLeaveNoRoomAreRefusedNamingTheRule) {
