@@ -151,7 +151,7 @@ struct LiveRoomsOptions {
   std::filesystem::path weights_dir;
   std::filesystem::path avatar;  // what remote people wear in every room
   std::filesystem::path out_dir = "out/eval";
-  double timeout = 120.0;  // s per pair
+  double timeout = 120.0;       // s per pair
   std::filesystem::path rules;  // room rules (eval/room_rules_file.h); empty: the defaults
   std::string command_line;
 };
