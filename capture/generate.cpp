@@ -8,6 +8,7 @@
 #include "capture/random.h"
 #include "capture/script.h"
 #include "capture/speed.h"
+#include "capture/targets.h"
 #include "capture/tracker_noise.h"
 #include "core/error.h"
 #include "dataset/dataset.h"
@@ -88,6 +89,10 @@ void describe(dataset::DatasetWriter& w, const Plan& plan, const GenerateOptions
   w.set_metadata("tracker_noise", plan.noise);
   w.set_metadata("seed", std::to_string(options.seed));
   w.set_metadata("count_scale", std::to_string(options.count_scale));
+  const TargetRules rules = plan.set == kTrainingSet ? training_target_rules() : TargetRules{};
+  w.set_metadata("pointing_elevation_deg",
+                 std::to_string(static_cast<int>(rules.pointing_elevation_min_deg)) + "," +
+                     std::to_string(static_cast<int>(rules.pointing_elevation_max_deg)));
   w.set_metadata("categories", categories_list());
   w.set_metadata("labels", "gaze,deictic,idle");
   w.set_metadata("frame_rate", "30");
@@ -187,7 +192,10 @@ std::uint64_t noise_seed(std::uint64_t sequence_seed, float speed) {
 
 Sequence clean_sequence(std::uint64_t seed, std::string_view set, const Subject& subject,
                         Category category, int index) {
-  return perform(subject, category, sequence_seed(seed, set, subject.name, category, index));
+  // The training set's targets reach lower than the held-out sets' (capture/targets.h).
+  const TargetRules rules = set == kTrainingSet ? training_target_rules() : TargetRules{};
+  return perform(subject, category, sequence_seed(seed, set, subject.name, category, index),
+                 rules);
 }
 
 std::vector<GeneratedFile> generate_datasets(const GenerateOptions& options,

@@ -13,13 +13,14 @@ namespace {
 // One performance: the body, its motion, the labels and the targets being written.
 class Performance {
  public:
-  Performance(const Subject& subject, Category category, std::uint64_t seed)
+  Performance(const Subject& subject, Category category, std::uint64_t seed,
+              const TargetRules& rules)
       : body_(make_body(subject)),
         rng_(seed),
         motion_rng_(rng_.fork(1)),
         motion_(body_, random_stance(rng_), motion_rng_),
         actor_(motion_, labels_, rng_),
-        sampler_(motion_, rng_),
+        sampler_(motion_, rng_, rules),
         category_(category) {}
 
   Sequence run(const Subject& subject, std::uint64_t seed) {
@@ -177,8 +178,9 @@ class Performance {
 
 }  // namespace
 
-Sequence perform(const Subject& subject, Category category, std::uint64_t seed) {
-  Performance performance(subject, category, seed);
+Sequence perform(const Subject& subject, Category category, std::uint64_t seed,
+                 const TargetRules& rules) {
+  Performance performance(subject, category, seed, rules);
   return performance.run(subject, seed);
 }
 

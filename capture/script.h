@@ -6,11 +6,13 @@
 
 #include "capture/sequence.h"
 #include "capture/subject.h"
+#include "capture/targets.h"
 
 namespace deixis::capture {
 
-// Performs one sequence of `category` by `subject`; the same arguments give the same sequence.
-// Throws deixis::Error for an invalid subject.
-Sequence perform(const Subject& subject, Category category, std::uint64_t seed);
+// Performs one sequence of `category` by `subject`, its targets placed by `rules`; the same
+// arguments give the same sequence. Throws deixis::Error for an invalid subject.
+Sequence perform(const Subject& subject, Category category, std::uint64_t seed,
+                 const TargetRules& rules = {});
 
 }  // namespace deixis::capture

@@ -20,7 +20,12 @@ Vec3 direction(float azimuth, float elevation) {
 
 }  // namespace
 
-TargetSampler::TargetSampler(const Motion& motion, Random& rng) : motion_(motion), rng_(rng) {}
+TargetRules training_target_rules() {
+  return TargetRules{-50.0f, 30.0f};
+}
+
+TargetSampler::TargetSampler(const Motion& motion, Random& rng, const TargetRules& rules)
+    : motion_(motion), rng_(rng), rules_(rules) {}
 
 Vec3 TargetSampler::in_world(const Vec3& p) const {
   return transform_point(motion_.stance(), p);
@@ -44,7 +49,9 @@ bool TargetSampler::apart(const Vec3& p, const std::vector<TargetObject>& others
 TargetObject TargetSampler::pointing(TargetId id, const std::vector<TargetObject>& others) {
   for (int attempt = 0; attempt < kAttempts; ++attempt) {
     const float azimuth = rng_.uniform(-75.0f, 75.0f) * kDegree;
-    const float elevation = rng_.uniform(-25.0f, 30.0f) * kDegree;
+    const float elevation =
+        rng_.uniform(rules_.pointing_elevation_min_deg, rules_.pointing_elevation_max_deg) *
+        kDegree;
     // Mostly beyond arm's reach (log-uniform 0.9–5 m), sometimes near (0.3–0.9 m).
     const float distance = rng_.chance(0.1)
                                ? rng_.uniform(0.3f, 0.9f)
