@@ -194,8 +194,7 @@ Sequence clean_sequence(std::uint64_t seed, std::string_view set, const Subject&
                         Category category, int index) {
   // The training set's targets reach lower than the held-out sets' (capture/targets.h).
   const TargetRules rules = set == kTrainingSet ? training_target_rules() : TargetRules{};
-  return perform(subject, category, sequence_seed(seed, set, subject.name, category, index),
-                 rules);
+  return perform(subject, category, sequence_seed(seed, set, subject.name, category, index), rules);
 }
 
 std::vector<GeneratedFile> generate_datasets(const GenerateOptions& options,

@@ -1,9 +1,9 @@
 #pragma once
 // Random targets around a recorded person (stance frame, then the world): pointing targets
-// 0.3–5 m from the eyes within ±75° of azimuth and the rules' elevations, touch targets within reach (checked with the
-// same torso plan the touch will use), and the other person (id 0, core/target_map.h) as the
-// listener of the explanation categories. Successive targets of one sequence are kept apart so
-// that a change of target is a real gesture.
+// 0.3–5 m from the eyes within ±75° of azimuth and the rules' elevations, touch targets within
+// reach (checked with the same torso plan the touch will use), and the other person (id 0,
+// core/target_map.h) as the listener of the explanation categories. Successive targets of one
+// sequence are kept apart so that a change of target is a real gesture.
 
 #include <vector>
 
