@@ -189,7 +189,7 @@ void BM_BatchProduct(benchmark::State& state) {
   constexpr int kRows = 64, kDepth = 264, kCols = 1296, kPanel = 48;
   const auto kernel = state.range(0) == 0 ? nn::ProductKernel::kBuild : nn::ProductKernel::kAvx512;
   if (!nn::product_kernel_available(kernel)) {
-    state.SkipWithError("this CPU has no AVX-512F");
+    state.SkipWithError("no AVX-512 kernels in this build or on this CPU (nn/batch.h)");
     return;
   }
   std::vector<float> a(kRows * kDepth), w(kDepth * kCols), c(kRows * kCols);

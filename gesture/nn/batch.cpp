@@ -5,8 +5,11 @@
 #include <utility>
 
 // The AVX-512 kernels are compiled for that target whatever the build's -march, and chosen at run
-// time (GCC and Clang on x86-64).
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// time (GCC and Clang on x86-64), in builds whose own kernels are fused multiply-adds (-march with
+// FMA, as release builds are): they compute the same chains, so the same bits. A build without
+// FMA (the sanitizer builds, which take no -march) multiplies and adds separately, with other
+// bits, and keeps its own kernels only.
+#if defined(__x86_64__) && defined(__FMA__) && (defined(__GNUC__) || defined(__clang__))
 #define DEIXIS_AVX512_KERNEL 1
 #else
 #define DEIXIS_AVX512_KERNEL 0

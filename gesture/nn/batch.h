@@ -51,8 +51,9 @@ void multiply_rows(const float* a, std::size_t lda, const float* w, std::size_t 
                    std::size_t ldc, int rows, int depth, int cols) noexcept;
 
 // The kernels multiply_rows chooses between: kBuild is what the build targets (AVX2 + FMA, or
-// portable code), kAvx512 adds 512-bit kernels (x86-64 with GCC or Clang, on a CPU with
-// AVX-512F). Named for tests and benchmarks, which compare them.
+// portable code), kAvx512 adds 512-bit kernels (x86-64 builds with FMA by GCC or Clang, on a CPU
+// with AVX-512F; not the sanitizer builds, whose portable kernels round differently). Named for
+// tests and benchmarks, which compare them.
 enum class ProductKernel { kBuild, kAvx512 };
 bool product_kernel_available(ProductKernel kernel) noexcept;
 ProductKernel best_product_kernel() noexcept;  // kAvx512 where available

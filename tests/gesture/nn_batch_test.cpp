@@ -230,7 +230,8 @@ TEST(OtherArchitectures, DiffusionTakesEachPersonsDraws) {
 // several, columns that leave 8- and 1-wide remainders, strided rows.
 TEST(Products, Avx512KernelsGiveTheBuildKernelsBits) {
   if (!product_kernel_available(ProductKernel::kAvx512)) {
-    GTEST_SKIP() << "this CPU has no AVX-512F; the build's kernels are the only ones";
+    GTEST_SKIP() << "no AVX-512 kernels here: they need a build with FMA (not the sanitizer "
+                    "builds) and a CPU with AVX-512F; the build's kernels are the only ones";
   }
   std::mt19937 random(21);
   std::uniform_real_distribution<float> value(-2.0f, 2.0f);
