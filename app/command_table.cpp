@@ -792,6 +792,13 @@ void add_eval(CLI::App& program, const Invocation& invocation, std::vector<Runne
                   "default")
       ->check(CLI::ExistingFile)
       ->needs(live_rooms);
+  cmd->add_option("--weights-dir", live->weights_dir,
+                  "With --live-rooms: the weight set both sites run (right/ and left/ with the "
+                  "authors' file names, as host and join take it), e.g. a training run's "
+                  "out/train/weights")
+      ->capture_default_str()
+      ->check(CLI::ExistingDirectory)
+      ->needs(live_rooms);
   cmd->add_option("--pair-timeout", live->timeout,
                   "With --live-rooms: seconds a pair's two sites may take")
       ->capture_default_str()
