@@ -4,6 +4,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
 
 #include "core/error.h"
 
@@ -61,7 +62,25 @@ float number(const std::filesystem::path& file, const std::string& field, const 
   return static_cast<float>(d);
 }
 
-json parse(const std::filesystem::path& file) {
+json parse(std::string_view text, const std::filesystem::path& file) {
+  if (text.size() > kMaxFileBytes) {
+    fail(file, "larger than " + std::to_string(kMaxFileBytes) + " bytes");
+  }
+  const json j = json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) {
+    fail(file, "not a JSON object");
+  }
+  // Compared as JSON values: `value("format", "")` would throw for a format that is not a string.
+  const auto field = [&j](const char* key) { return j.contains(key) ? j[key] : json(); };
+  if (field("format") != json("deixis-room-rules") || field("version") != json(1)) {
+    fail(file, R"(expected "format": "deixis-room-rules", "version": 1)");
+  }
+  return j;
+}
+
+}  // namespace
+
+RoomRules read_room_rules(const std::filesystem::path& file) {
   std::error_code ec;
   const std::uintmax_t size = std::filesystem::file_size(file, ec);
   if (ec) {
@@ -71,20 +90,16 @@ json parse(const std::filesystem::path& file) {
     fail(file, "larger than " + std::to_string(kMaxFileBytes) + " bytes");
   }
   std::ifstream in(file, std::ios::binary);
-  const json j = json::parse(in, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) {
-    fail(file, "not a JSON object");
+  std::string text(static_cast<std::size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  if (!in) {
+    fail(file, "cannot read");
   }
-  if (j.value("format", "") != "deixis-room-rules" || !j.contains("version") || j["version"] != 1) {
-    fail(file, R"(expected "format": "deixis-room-rules", "version": 1)");
-  }
-  return j;
+  return parse_room_rules(text, file);
 }
 
-}  // namespace
-
-RoomRules read_room_rules(const std::filesystem::path& file) {
-  const json j = parse(file);
+RoomRules parse_room_rules(std::string_view text, const std::filesystem::path& file) {
+  const json j = parse(text, file);
   RoomRules rules;
   for (const auto& [key, v] : j.items()) {
     if (key == "format" || key == "version") {

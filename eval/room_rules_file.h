@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "eval/room_pairs.h"
 
@@ -18,6 +19,9 @@ namespace deixis::eval {
 // unknown field, a value that is not a finite number in its bounds, a range whose minimum is
 // above its maximum, or a file that is not such JSON.
 RoomRules read_room_rules(const std::filesystem::path& file);
+
+// The same from text already read; `file` only names it in errors (the fuzz target's entry).
+RoomRules parse_room_rules(std::string_view text, const std::filesystem::path& file);
 
 // The rules as that JSON (every field), for reports.
 std::string room_rules_json(const RoomRules& rules);

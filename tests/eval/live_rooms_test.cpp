@@ -147,6 +147,8 @@ TEST(RoomRulesFile, BadFilesAreRefusedNamingTheFileAndTheField) {
       {head + R"("min_separation": null})", "min_separation: not a number"},
       {R"({"format": "deixis-target-map", "version": 1})", "deixis-room-rules"},
       {R"({"format": "deixis-room-rules", "version": 2})", "\"version\": 1"},
+      {R"({"format": 18444073709103232, "version": 1})", "deixis-room-rules"},  // fuzz-found
+      {R"({"format": "deixis-room-rules", "version": "1"})", "\"version\": 1"},
       {"[1, 2", "not a JSON object"},
       {std::string(70 * 1024, ' ') + "{}", "larger than 65536 bytes"},
   };
