@@ -265,7 +265,9 @@ void multiply_rows(ProductKernel kernel, const float* a, std::size_t lda, const 
                    std::size_t ldw, float* c, std::size_t ldc, int rows, int depth,
                    int cols) noexcept {
 #if DEIXIS_AVX512_KERNEL
-  if (kernel == ProductKernel::kAvx512) {
+  // Asked for where the CPU lacks it, the build's kernels answer (an illegal instruction would
+  // not).
+  if (kernel == ProductKernel::kAvx512 && product_kernel_available(kernel)) {
     multiply_rows_avx512(a, lda, w, ldw, c, ldc, rows, depth, cols);
     return;
   }
