@@ -1,6 +1,7 @@
 // `deixis eval --live-rooms` as a user runs it: a generated room pair run as `deixis host` and
 // `deixis join` (real processes on loopback, started by the command itself), the completions
-// both sites observed pooled into live_rooms.md, .json and .png; bad flags exit 2 naming them.
+// both sites observed pooled into live_rooms.md, .json and .png, under rules of its own (--rules);
+// bad flags exit 2 naming them.
 
 #include <gtest/gtest.h>
 
@@ -23,8 +24,12 @@ using json = nlohmann::json;
 TEST(LiveRoomsProcess, OnePairIsRunAndItsCompletionsReported) {
   deixis::testing::ScratchDir dir;
   const fs::path out = dir.path() / "eval";
-  Deixis eval({"eval", "--live-rooms", "1", "--seed", "29", "--subjects", "172,180", "--out",
-               out.string()});
+  // Rules of its own (--rules): the pointing targets 1.0–1.6 m high.
+  const fs::path rules = dir.path() / "rules.json";
+  std::ofstream(rules) << R"({"format": "deixis-room-rules", "version": 1,
+                             "point_height": [1.0, 1.6]})";
+  Deixis eval({"eval", "--live-rooms", "1", "--seed", "29", "--subjects", "172,180", "--rules",
+               rules.string(), "--out", out.string()});
   ASSERT_EQ(eval.wait(), 0) << eval.out() << eval.err();
   std::printf("%s", eval.out().c_str());
   for (const char* file : {"live_rooms.md", "live_rooms.json", "live_rooms.png"}) {
@@ -38,6 +43,20 @@ TEST(LiveRoomsProcess, OnePairIsRunAndItsCompletionsReported) {
   }
   const json r = json::parse(std::ifstream(out / "live_rooms.json"));
   EXPECT_EQ(r["pairs"], 1);
+  EXPECT_EQ(r["rules"]["point_height"], json::parse("[1.0, 1.6]")) << r["rules"].dump();
+  EXPECT_EQ(r["rules"]["point_distance"], json::parse("[1.2, 3.4]")) << "a default kept";
+  int pointing_targets = 0;
+  for (const char* room : {"room-a.json", "room-b.json"}) {
+    const json map = json::parse(std::ifstream(out / "live_rooms/pair-000" / room));
+    for (const json& o : map["objects"]) {
+      if (o["id"].get<int>() <= 3) {  // the pointing targets
+        ++pointing_targets;
+        EXPECT_GE(o["position"][1].get<double>(), 1.0 - 1e-3) << room << o.dump();
+        EXPECT_LE(o["position"][1].get<double>(), 1.6 + 1e-3) << room << o.dump();
+      }
+    }
+  }
+  EXPECT_EQ(pointing_targets, 6);
   // Each user points at three targets and touches one; each site observes the other's.
   int points = 0, touches = 0;
   for (const json& c : r["completions"]) {
