@@ -73,6 +73,11 @@ void add_recording(dataset::DatasetWriter& w, const Sequence& s, std::int32_t so
   w.add(rows);
 }
 
+// The training set's pointing targets reach lower than the held-out sets' (capture/targets.h).
+TargetRules target_rules_of(std::string_view set) {
+  return set == kTrainingSet ? training_target_rules() : TargetRules{};
+}
+
 void describe(dataset::DatasetWriter& w, const Plan& plan, const GenerateOptions& options,
               bool mirrored) {
   const Subject& s = *plan.subject;
@@ -89,7 +94,7 @@ void describe(dataset::DatasetWriter& w, const Plan& plan, const GenerateOptions
   w.set_metadata("tracker_noise", plan.noise);
   w.set_metadata("seed", std::to_string(options.seed));
   w.set_metadata("count_scale", std::to_string(options.count_scale));
-  const TargetRules rules = plan.set == kTrainingSet ? training_target_rules() : TargetRules{};
+  const TargetRules rules = target_rules_of(plan.set);
   w.set_metadata("pointing_elevation_deg",
                  std::to_string(static_cast<int>(rules.pointing_elevation_min_deg)) + "," +
                      std::to_string(static_cast<int>(rules.pointing_elevation_max_deg)));
@@ -192,9 +197,8 @@ std::uint64_t noise_seed(std::uint64_t sequence_seed, float speed) {
 
 Sequence clean_sequence(std::uint64_t seed, std::string_view set, const Subject& subject,
                         Category category, int index) {
-  // The training set's targets reach lower than the held-out sets' (capture/targets.h).
-  const TargetRules rules = set == kTrainingSet ? training_target_rules() : TargetRules{};
-  return perform(subject, category, sequence_seed(seed, set, subject.name, category, index), rules);
+  return perform(subject, category, sequence_seed(seed, set, subject.name, category, index),
+                 target_rules_of(set));
 }
 
 std::vector<GeneratedFile> generate_datasets(const GenerateOptions& options,

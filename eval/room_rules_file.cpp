@@ -48,6 +48,12 @@ constexpr ValueField kValues[] = {
   throw Error(file.string() + ": " + what);
 }
 
+void check_size(std::uintmax_t bytes, const std::filesystem::path& file) {
+  if (bytes > kMaxFileBytes) {
+    fail(file, "larger than " + std::to_string(kMaxFileBytes) + " bytes");
+  }
+}
+
 float number(const std::filesystem::path& file, const std::string& field, const json& v,
              float lowest, float highest) {
   if (!v.is_number()) {
@@ -63,9 +69,7 @@ float number(const std::filesystem::path& file, const std::string& field, const 
 }
 
 json parse(std::string_view text, const std::filesystem::path& file) {
-  if (text.size() > kMaxFileBytes) {
-    fail(file, "larger than " + std::to_string(kMaxFileBytes) + " bytes");
-  }
+  check_size(text.size(), file);
   const json j = json::parse(text, nullptr, false);
   if (j.is_discarded() || !j.is_object()) {
     fail(file, "not a JSON object");
@@ -86,9 +90,7 @@ RoomRules read_room_rules(const std::filesystem::path& file) {
   if (ec) {
     fail(file, "cannot read: " + ec.message());
   }
-  if (size > kMaxFileBytes) {
-    fail(file, "larger than " + std::to_string(kMaxFileBytes) + " bytes");
-  }
+  check_size(size, file);  // before reading: a huge file is refused, not read
   std::ifstream in(file, std::ios::binary);
   std::string text(static_cast<std::size_t>(size), '\0');
   in.read(text.data(), static_cast<std::streamsize>(text.size()));

@@ -235,39 +235,11 @@ void scalar_columns(const float* a, std::size_t lda, const float* w, std::size_t
   }
 }
 
-}  // namespace
-
-bool product_kernel_available(ProductKernel kernel) noexcept {
-  switch (kernel) {
-    case ProductKernel::kBuild:
-      return true;
-    case ProductKernel::kAvx512:
+// `kernel` is available here (the callers below make sure).
+void multiply(ProductKernel kernel, const float* a, std::size_t lda, const float* w,
+              std::size_t ldw, float* c, std::size_t ldc, int rows, int depth, int cols) noexcept {
 #if DEIXIS_AVX512_KERNEL
-      return __builtin_cpu_supports("avx512f") != 0;
-#else
-      return false;
-#endif
-  }
-  return false;
-}
-
-ProductKernel best_product_kernel() noexcept {
-  return product_kernel_available(ProductKernel::kAvx512) ? ProductKernel::kAvx512
-                                                          : ProductKernel::kBuild;
-}
-
-void multiply_rows(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
-                   std::size_t ldc, int rows, int depth, int cols) noexcept {
-  multiply_rows(best_product_kernel(), a, lda, w, ldw, c, ldc, rows, depth, cols);
-}
-
-void multiply_rows(ProductKernel kernel, const float* a, std::size_t lda, const float* w,
-                   std::size_t ldw, float* c, std::size_t ldc, int rows, int depth,
-                   int cols) noexcept {
-#if DEIXIS_AVX512_KERNEL
-  // Asked for where the CPU lacks it, the build's kernels answer (an illegal instruction would
-  // not).
-  if (kernel == ProductKernel::kAvx512 && product_kernel_available(kernel)) {
+  if (kernel == ProductKernel::kAvx512) {
     multiply_rows_avx512(a, lda, w, ldw, c, ldc, rows, depth, cols);
     return;
   }
@@ -291,6 +263,41 @@ void multiply_rows(ProductKernel kernel, const float* a, std::size_t lda, const 
   }
 #endif
   scalar_columns(a, lda, w, ldw, c, ldc, rows, depth, j, cols);
+}
+
+}  // namespace
+
+bool product_kernel_available(ProductKernel kernel) noexcept {
+  switch (kernel) {
+    case ProductKernel::kBuild:
+      return true;
+    case ProductKernel::kAvx512:
+#if DEIXIS_AVX512_KERNEL
+      return __builtin_cpu_supports("avx512f") != 0;
+#else
+      return false;
+#endif
+  }
+  return false;
+}
+
+ProductKernel best_product_kernel() noexcept {
+  return product_kernel_available(ProductKernel::kAvx512) ? ProductKernel::kAvx512
+                                                          : ProductKernel::kBuild;
+}
+
+void multiply_rows(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
+                   std::size_t ldc, int rows, int depth, int cols) noexcept {
+  multiply(best_product_kernel(), a, lda, w, ldw, c, ldc, rows, depth, cols);
+}
+
+void multiply_rows(ProductKernel kernel, const float* a, std::size_t lda, const float* w,
+                   std::size_t ldw, float* c, std::size_t ldc, int rows, int depth,
+                   int cols) noexcept {
+  // Asked for where the CPU lacks it, the build's kernels answer (an illegal instruction would
+  // not).
+  multiply(product_kernel_available(kernel) ? kernel : ProductKernel::kBuild, a, lda, w, ldw, c,
+           ldc, rows, depth, cols);
 }
 
 }  // namespace deixis::nn

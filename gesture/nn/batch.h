@@ -44,9 +44,10 @@ class BatchBuffers {
 // in order, whatever the number of rows and wherever the row sits in the batch, so a person's
 // results are bit for bit the same alone (rows = 1, the networks' run()) as in any batch.
 //
-// Where the CPU has AVX-512 (checked at run time; the build itself targets x86-64-v3), whole
-// groups of 16 columns go through 512-bit kernels: the same chains of multiply-adds, so the same
-// bits, at up to twice the arithmetic per instruction (docs/scaling.md).
+// Where the CPU has AVX-512 (checked at run time; the build itself targets x86-64-v3), every
+// column goes through 512-bit kernels (a group's last vector masked): the same chains of
+// multiply-adds, so the same bits, at up to twice the arithmetic per instruction
+// (docs/scaling.md, decision 86).
 void multiply_rows(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
                    std::size_t ldc, int rows, int depth, int cols) noexcept;
 
