@@ -1,0 +1,155 @@
+// The lane-wise exp and expm1 (gesture/nn/lanewise_math.h) and the ELU made of them
+// (gesture/nn/activations.h): accurate against the double-precision C library, saturating
+// sensibly outside their range, NaN kept, and, what they exist for, a value's result the same
+// bits whatever its neighbours and wherever it sits in the library's vectorised loop (against the
+// same function called one value at a time).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <vector>
+
+#include "gesture/nn/activations.h"
+#include "gesture/nn/lanewise_math.h"
+
+namespace deixis::nn {
+namespace {
+
+using Function = float (*)(float);
+
+struct Case {
+  const char* name;
+  Function lanewise;
+  double (*exact)(double);
+  float lo, hi;         // the range swept
+  double max_relative;  // allowed |f − exact| / |exact|
+};
+
+double exp_exact(double x) {
+  return std::exp(x);
+}
+double expm1_exact(double x) {
+  return std::expm1(x);
+}
+
+const Case kCases[] = {
+    {"exp", lanewise::exp, exp_exact, -87.0f, 88.0f, 2.5e-7},
+    {"expm1", lanewise::expm1, expm1_exact, -30.0f, 10.0f, 3e-7},
+};
+
+// Evenly spaced points of [lo, hi] plus a logarithmic sweep of small magnitudes of both signs,
+// where expm1 switches between its series and e^x.
+std::vector<float> sweep(float lo, float hi) {
+  std::vector<float> xs;
+  constexpr int kSteps = 400'000;
+  for (int i = 0; i <= kSteps; ++i) {
+    xs.push_back(lo + (hi - lo) * static_cast<float>(i) / kSteps);
+  }
+  for (float m = 1e-30f; m < 2.0f; m *= 1.001f) {
+    xs.push_back(m);
+    xs.push_back(-m);
+  }
+  return xs;
+}
+
+TEST(LanewiseMath, AccurateAgainstDoublePrecision) {
+  for (const Case& c : kCases) {
+    double worst = 0.0;
+    float worst_x = 0.0f;
+    for (const float x : sweep(c.lo, c.hi)) {
+      const double exact = c.exact(static_cast<double>(x));
+      if (exact == 0.0 ||
+          std::fabs(exact) < static_cast<double>(std::numeric_limits<float>::min())) {
+        continue;  // below float's normal range: no relative figure to keep
+      }
+      const double relative =
+          std::fabs(static_cast<double>(c.lanewise(x)) - exact) / std::fabs(exact);
+      if (relative > worst) {
+        worst = relative;
+        worst_x = x;
+      }
+    }
+    EXPECT_LE(worst, c.max_relative) << c.name << " at x = " << worst_x;
+    std::ostringstream figure;
+    figure << worst << " at " << worst_x;
+    RecordProperty(c.name, figure.str());
+  }
+}
+
+TEST(LanewiseMath, SaturatesOutsideAndKeepsNaN) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(lanewise::expm1(-kInf), -1.0f);
+  EXPECT_EQ(lanewise::expm1(-200.0f), -1.0f);
+  EXPECT_GT(lanewise::exp(kInf), 1e38f);  // e^88, the clamp: finite
+  EXPECT_TRUE(std::isfinite(lanewise::exp(kInf)));
+  EXPECT_EQ(lanewise::exp(0.0f), 1.0f);
+  EXPECT_EQ(lanewise::expm1(0.0f), 0.0f);
+  EXPECT_EQ(lanewise::exp(-200.0f), lanewise::exp(-87.0f));  // the clamp: the smallest normal
+  for (const Case& c : kCases) {
+    EXPECT_TRUE(std::isnan(c.lanewise(nan))) << c.name;
+  }
+}
+
+// Called through a volatile pointer, so the compiler cannot inline it into a vector loop: scalar
+// code, one value at a time.
+float one_at_a_time(Function f, float x) {
+  volatile Function call = f;
+  return call(x);
+}
+
+TEST(LanewiseMath, AValueGetsTheSameBitsWhateverItsNeighbours) {
+  std::mt19937 rng(88);
+  std::uniform_real_distribution<float> wide(-100.0f, 20.0f);
+  std::uniform_real_distribution<float> narrow(-0.5f, 0.5f);
+  // 1,001 values (a vectorised loop's remainder too), a third of them near 0 where expm1 switches
+  // formulas, some below −87 where exp clamps.
+  std::vector<float> values(1001);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    values[i] = i % 3 == 0 ? narrow(rng) : wide(rng);
+  }
+  // The library's loop (vector code, built with its own flags in another translation unit)...
+  std::vector<float> vectorised = values;
+  elu_inplace(vectorised.data(), vectorised.size());
+  // ... on the same values shifted by one place (each in another lane), with other neighbours...
+  std::vector<float> shifted(values.size() + 1, -15.0f);
+  std::copy(values.begin(), values.end(), shifted.begin() + 1);
+  elu_inplace(shifted.data(), shifted.size());
+  // ... and one value at a time, here.
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const float alone = one_at_a_time(elu, values[i]);
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(vectorised[i]), std::bit_cast<std::uint32_t>(alone))
+        << "elu(" << values[i] << ") at " << i;
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(shifted[i + 1]), std::bit_cast<std::uint32_t>(alone))
+        << "elu(" << values[i] << ") shifted from " << i;
+  }
+}
+
+TEST(LanewiseMath, EluIsTheIdentityAboveZeroAndExpm1Below) {
+  std::vector<float> x = {-3.0f, -0.2f, 0.0f, 1e-8f, 0.5f, 7.0f};
+  const std::vector<float> before = x;
+  elu_inplace(x.data(), x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const float expected = before[i] > 0.0f ? before[i] : lanewise::expm1(before[i]);
+    EXPECT_EQ(x[i], expected) << before[i];
+  }
+  EXPECT_NEAR(x[0], std::expm1(-3.0), 1e-7);
+  // A strided block takes the element-by-element path and gives the same values.
+  Eigen::Matrix<float, 4, 3> m;
+  m << -1, 2, -3, 4, -5, 6, -0.1f, 0.2f, -0.3f, 9, -9, 0;
+  Eigen::Matrix<float, 4, 3> contiguous = m;
+  elu_inplace(contiguous);
+  auto block = m.block<3, 2>(1, 1);
+  elu_inplace(block);
+  const bool same = m.block<3, 2>(1, 1) == contiguous.block<3, 2>(1, 1);
+  EXPECT_TRUE(same) << m << "\n\n" << contiguous;
+}
+
+}  // namespace
+}  // namespace deixis::nn
