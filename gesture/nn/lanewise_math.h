@@ -1,5 +1,5 @@
 #pragma once
-// exp and expm1 for the networks' ELUs, each result computed from its own argument alone, by a
+// e^x − 1 for the networks' ELUs, each result computed from its own argument alone, by a
 // fixed sequence of IEEE operations (multiply-add, multiply, add, compare-and-select,
 // exponent-field arithmetic) with no branch taken for a group of values.
 //
@@ -10,10 +10,9 @@
 // values), which keeps a person's translation bit for bit the same alone and in any batch
 // (docs/decisions.md, decision 88).
 //
-// Accuracy (tests/nn/lanewise_math_test.cpp, against double precision, release build): exp within
-// 8.0e-8 relative over [−87, 88] (Cephes' expf polynomial after a Cody-Waite reduction), expm1
-// within 1.1e-7, under one float ulp, far inside the 1e-5 agreement with the authors' PyTorch
-// networks.
+// Accuracy (tests/nn/lanewise_math_test.cpp, against double precision, release build): within
+// 1.1e-7 relative over [−87, 88] (Cephes' expf polynomial after a Cody-Waite reduction), under
+// one float ulp, far inside the 1e-5 agreement with the authors' PyTorch networks.
 
 #include <bit>
 #include <cmath>
@@ -31,12 +30,10 @@ inline float multiply_add(float a, float b, float c) noexcept {
 #endif
 }
 
-// e^x = 2^n · (1 + q), the form exp and expm1 share: n = round(x / ln 2), q = e^r − 1 for
-// r = x − n·ln 2, |r| ≤ ln 2 / 2.
+// e^x = 2^n · (1 + q): n = round(x / ln 2), q = e^r − 1 for r = x − n·ln 2, |r| ≤ ln 2 / 2.
 struct ExpParts {
-  std::uint32_t n_bits;  // n as a two's-complement integer (unsigned, so NaN's garbage wraps)
-  float two_to_n;        // 2^n
-  float q;               // e^r − 1
+  float two_to_n;  // 2^n
+  float q;         // e^r − 1
 };
 
 // x clamped to [−87, 88] first: e^88 ≈ 1.7e38 is below FLT_MAX, and from −87 on n ≥ −126, so
@@ -48,6 +45,7 @@ inline ExpParts exp_parts(float x) noexcept {
   constexpr float kShift = 0x1.8p23f;
   const float shifted = multiply_add(x, 1.44269504088896341f, kShift);
   const float n = shifted - kShift;
+  // n as a two's-complement integer (unsigned, so that a NaN's garbage bits wrap).
   const std::uint32_t n_bits =
       std::bit_cast<std::uint32_t>(shifted) - std::bit_cast<std::uint32_t>(kShift);
   // r = x − n·ln 2 in two parts (Cody-Waite: n·0.693359375 is exact).
@@ -61,20 +59,12 @@ inline ExpParts exp_parts(float x) noexcept {
   p = multiply_add(p, r, 1.6666665459e-1f);
   p = multiply_add(p, r, 5.0000001201e-1f);
   const float two_to_n = std::bit_cast<float>((n_bits + 127u) << 23);
-  return {n_bits, two_to_n, multiply_add(p, r * r, r)};
+  return {two_to_n, multiply_add(p, r * r, r)};
 }
 
-// e^x, with arguments clamped to [−87, 88] (exp_parts). NaN stays NaN.
-inline float exp(float x) noexcept {
-  const ExpParts e = exp_parts(x);
-  // (1 + q) · 2^n by adding n to the exponent field of 1 + q (in [0.70, 1.42]): exact.
-  const float scaled =
-      std::bit_cast<float>(std::bit_cast<std::uint32_t>(e.q + 1.0f) + (e.n_bits << 23));
-  return x == x ? scaled : x;
-}
-
-// e^x − 1, accurate for small |x| too (the ELU's negative side; torch.nn.ELU uses expm1).
-// −0 stays −0, as in the C library and torch.
+// e^x − 1, accurate for small |x| too (the ELU's negative side; torch.nn.ELU uses expm1), with
+// arguments clamped to [−87, 88] (exp_parts). ±0 and NaN come back as given, as in the C library
+// and torch.
 inline float expm1(float x) noexcept {
   // |x| < 0.35: the Taylor series to x^8 (the first term left out is below 2e-8 relative).
   float p = 1.0f / 40320.0f;
