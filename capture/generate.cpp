@@ -73,9 +73,22 @@ void add_recording(dataset::DatasetWriter& w, const Sequence& s, std::int32_t so
   w.add(rows);
 }
 
-// The training set's pointing targets reach lower than the held-out sets' (capture/targets.h).
-TargetRules target_rules_of(std::string_view set) {
-  return set == kTrainingSet ? training_target_rules() : TargetRules{};
+std::string elevation_range(const TargetRules& rules) {
+  return std::to_string(static_cast<int>(rules.pointing_elevation_min_deg)) + "," +
+         std::to_string(static_cast<int>(rules.pointing_elevation_max_deg));
+}
+
+// A category's sequences in a set at a count scale: the first range's, then (training set,
+// pointing categories) the low-target additions.
+struct CategoryCounts {
+  int first = 0;
+  int low = 0;
+};
+
+CategoryCounts category_counts(std::string_view set, Category c, double count_scale) {
+  const bool training = set == kTrainingSet;
+  const int first = scaled_count(training ? training_count(c) : test_count(c), count_scale);
+  return {first, training ? low_target_count(c, first) : 0};
 }
 
 void describe(dataset::DatasetWriter& w, const Plan& plan, const GenerateOptions& options,
@@ -94,10 +107,15 @@ void describe(dataset::DatasetWriter& w, const Plan& plan, const GenerateOptions
   w.set_metadata("tracker_noise", plan.noise);
   w.set_metadata("seed", std::to_string(options.seed));
   w.set_metadata("count_scale", std::to_string(options.count_scale));
-  const TargetRules rules = target_rules_of(plan.set);
-  w.set_metadata("pointing_elevation_deg",
-                 std::to_string(static_cast<int>(rules.pointing_elevation_min_deg)) + "," +
-                     std::to_string(static_cast<int>(rules.pointing_elevation_max_deg)));
+  w.set_metadata("pointing_elevation_deg", elevation_range(TargetRules{}));
+  if (plan.set == kTrainingSet) {
+    int low = 0;
+    for (const Category c : kAllCategories) {
+      low += category_counts(plan.set, c, options.count_scale).low;
+    }
+    w.set_metadata("low_pointing_elevation_deg", elevation_range(low_target_rules()));
+    w.set_metadata("low_pointing_sequences", std::to_string(low));
+  }
   w.set_metadata("categories", categories_list());
   w.set_metadata("labels", "gaze,deictic,idle");
   w.set_metadata("frame_rate", "30");
@@ -195,10 +213,23 @@ std::uint64_t noise_seed(std::uint64_t sequence_seed, float speed) {
   return combine_seed(sequence_seed, static_cast<std::uint64_t>(std::lround(speed * 4.0f)));
 }
 
+int low_target_count(Category c, int count) {
+  if (is_touching(c)) {
+    return 0;
+  }
+  const TargetRules first;
+  const TargetRules low = low_target_rules();
+  const double share = (low.pointing_elevation_max_deg - low.pointing_elevation_min_deg) /
+                       (first.pointing_elevation_max_deg - first.pointing_elevation_min_deg);
+  return static_cast<int>(std::lround(count * share));
+}
+
 Sequence clean_sequence(std::uint64_t seed, std::string_view set, const Subject& subject,
-                        Category category, int index) {
+                        Category category, int index, double count_scale) {
+  const CategoryCounts counts = category_counts(set, category, count_scale);
+  const bool low = counts.low > 0 && index >= counts.first;
   return perform(subject, category, sequence_seed(seed, set, subject.name, category, index),
-                 target_rules_of(set));
+                 low ? low_target_rules() : TargetRules{});
 }
 
 std::vector<GeneratedFile> generate_datasets(const GenerateOptions& options,
@@ -225,15 +256,15 @@ std::vector<GeneratedFile> generate_datasets(const GenerateOptions& options,
 
     std::size_t total = 0;
     for (const Category c : kAllCategories) {
-      total += static_cast<std::size_t>(
-          scaled_count(training ? training_count(c) : test_count(c), options.count_scale));
+      const CategoryCounts n = category_counts(plan.set, c, options.count_scale);
+      total += static_cast<std::size_t>(n.first + n.low);
     }
     std::size_t done = 0;
     for (const Category c : kAllCategories) {
-      const int count =
-          scaled_count(training ? training_count(c) : test_count(c), options.count_scale);
-      for (int i = 0; i < count; ++i) {
-        const Sequence clean = clean_sequence(options.seed, plan.set, *plan.subject, c, i);
+      const CategoryCounts n = category_counts(plan.set, c, options.count_scale);
+      for (int i = 0; i < n.first + n.low; ++i) {
+        const Sequence clean =
+            clean_sequence(options.seed, plan.set, *plan.subject, c, i, options.count_scale);
         const std::int32_t source = writer.next_index();
         const bool augment = training && is_speed_augmented(c);
         for (const float speed : kAugmentedSpeeds) {

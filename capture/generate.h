@@ -31,6 +31,11 @@ inline constexpr std::string_view kValidationSet = "validation";
 int training_count(Category category);
 int test_count(Category category);
 
+// Pointing sequences the training set adds to a pointing category of `count` sequences, with
+// targets under low_target_rules (indices count, count + 1, …): round(count × 25/55), the same
+// number per degree of elevation as the first range's 55° holds. Zero for other categories.
+int low_target_count(Category category, int count);
+
 struct GenerateOptions {
   std::filesystem::path out_dir;
   std::uint64_t seed = 1;
@@ -64,8 +69,9 @@ std::uint64_t sequence_seed(std::uint64_t seed, std::string_view set, std::strin
 // The seed of the tracker noise on a recording played at `speed`.
 std::uint64_t noise_seed(std::uint64_t sequence_seed, float speed);
 
-// One sequence exactly as `generate_datasets` records it before augmentation and noise.
+// One sequence exactly as `generate_datasets` records it, at `count_scale`, before augmentation
+// and noise. Training indices from the category's (scaled) count on are the low-target additions.
 Sequence clean_sequence(std::uint64_t seed, std::string_view set, const Subject& subject,
-                        Category category, int index);
+                        Category category, int index, double count_scale = 1.0);
 
 }  // namespace deixis::capture

@@ -20,8 +20,8 @@ Vec3 direction(float azimuth, float elevation) {
 
 }  // namespace
 
-TargetRules training_target_rules() {
-  return TargetRules{-50.0f, 30.0f};
+TargetRules low_target_rules() {
+  return TargetRules{-50.0f, -25.0f};
 }
 
 TargetSampler::TargetSampler(const Motion& motion, Random& rng, const TargetRules& rules)

@@ -12,17 +12,20 @@
 
 namespace deixis::capture {
 
-// Where pointing targets may stand, as elevation from the eyes (degrees, positive up).
+// Where pointing targets may stand, as elevation from the eyes (degrees, positive up). The
+// defaults are the first captures' rules, which every set keeps for its sequences 0..count−1, so
+// the held-out tables compare across versions and the training set contains the one the shipped
+// weights came from.
 struct TargetRules {
   float pointing_elevation_min_deg = -25.0f;
   float pointing_elevation_max_deg = 30.0f;
 };
 
-// The test and validation sets keep the rules of the first captures (−25° to +30°), so the held-out
-// tables compare across versions. The training set reaches further below the eyes (−50°): a
-// person in a room points at low, near things (a table beside the other person), which the
-// first training set never showed the networks (docs/decisions.md 87, docs/live-rooms.md).
-TargetRules training_target_rules();
+// The rules of the pointing sequences the training set adds after those (capture/generate.h
+// low_target_count): targets 25° to 50° below the eyes. A person in a room points at low, near
+// things (a table beside the other person), which the first training set never showed the
+// networks (docs/decisions.md 87 and 89, docs/live-rooms.md).
+TargetRules low_target_rules();
 
 class TargetSampler {
  public:

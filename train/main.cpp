@@ -30,6 +30,8 @@ struct Flags {
   int threads = 1;
   int epochs = 0;
   int compress_to = 0;
+  int continue_epochs = 0;
+  std::string init_weights;
   int batch_size = 0;
   double learning_rate = 0;
   double checkpoint_seconds = 120;
@@ -76,6 +78,18 @@ void add_common(CLI::App* cmd, Flags& f, const std::string& architectures) {
                   "with it and the learning rate ends where the full schedule's does "
                   "(train/schedule.h); for where the full schedule cannot run")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--init-weights", f.init_weights,
+                  "Start from these exported weights (this network's, e.g. a shipped "
+                  "MPNet(MoE)(AC)80.safetensors) instead of a random initialisation: fine-tuning; "
+                  "the optimiser's moments start at zero")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--continue", f.continue_epochs,
+                  "With --init-weights: run this many epochs after the end of the schedule, the "
+                  "learning rate going on from where it ended and scheduled sampling staying as "
+                  "it ended (train/schedule.h continued; docs/training.md, \"Fine-tuning\")")
+      ->check(CLI::PositiveNumber)
+      ->needs("--init-weights")
+      ->excludes("--compress-to");
   cmd->add_option("--batch-size", f.batch_size, "Override the schedule's batch size")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--lr", f.learning_rate, "Override the initial learning rate")
@@ -148,6 +162,9 @@ int run(Family family, const Flags& f, const std::string& command_line) {
       throw deixis::Error(std::string("--compress-to: ") + e.what());
     }
   }
+  if (f.continue_epochs > 0) {
+    o.schedule = continued(o.schedule, f.continue_epochs);
+  }
   if (f.epochs > 0) {  // after compressing: a smoke run cuts the compressed schedule short
     o.schedule.epochs = f.epochs;
   }
@@ -166,6 +183,7 @@ int run(Family family, const Flags& f, const std::string& command_line) {
   o.restart = f.restart;
   o.autograd = f.autograd;
   o.export_to = f.export_to;
+  o.initial_weights = f.init_weights;
   o.command_line = command_line;
   std::vector<std::filesystem::path> files;
   for (const auto& list : {f.data, f.validation}) {

@@ -111,6 +111,10 @@ void write_manifest(const std::filesystem::path& path, const Manifest& m) {
                    {"final_validation_loss", number_or_null(last.validation_loss)},
                    {"history", history},
                    {"complete", m.complete}};
+  if (m.initial_weights) {
+    manifest["initial_weights"] = {{"file", m.initial_weights->file},
+                                   {"sha256", m.initial_weights->sha256}};
+  }
   if (!m.complete) {
     manifest["stopped_at"] = {{"epoch", m.stopped_at_epoch}, {"batch", m.stopped_at_batch}};
   }

@@ -35,6 +35,11 @@ struct Manifest {
   std::vector<std::string> trained_by;
   std::string dataset_hash;  // sha256 over the dataset files' hashes (dataset_hash())
   std::vector<std::string> dataset_files;
+  // Fine-tuning (--init-weights): the weights the run started from, as given and their SHA-256.
+  struct InitialWeights {
+    std::string file, sha256;
+  };
+  std::optional<InitialWeights> initial_weights;
   std::size_t train_examples = 0;
   std::size_t validation_examples = 0;
   std::size_t parameter_count = 0;

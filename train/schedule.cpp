@@ -44,6 +44,26 @@ Schedule compressed(const Schedule& full, int epochs) {
   return s;
 }
 
+Schedule continued(const Schedule& full, int epochs) {
+  if (epochs < 1) {
+    throw Error("a schedule can be continued by 1 or more epochs, not " + std::to_string(epochs));
+  }
+  Schedule s = full;
+  s.epochs = epochs;
+  s.learning_rate = full.learning_rate_at(full.epochs + 1);
+  if (full.scheduled_sampling) {
+    // P as after full's last epoch, for every epoch: 1 (all teacher forcing) or 0 (all
+    // autoregressive). A schedule cut short inside its ramp has no single P to keep.
+    const double p = full.teacher_forcing_at(full.epochs + 1);
+    if (p > 0.0 && p < 1.0) {
+      throw Error("a schedule that ends inside its scheduled-sampling ramp cannot be continued");
+    }
+    s.teacher_forcing_epochs = p == 1.0 ? epochs : 0;
+    s.autoregressive_from_epoch = p == 1.0 ? epochs + 1 : 0;
+  }
+  return s;
+}
+
 Schedule default_schedule(Family family) {
   Schedule s;
   switch (family) {

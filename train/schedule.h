@@ -46,6 +46,12 @@ Schedule default_schedule(Family family);
 // trains at the full schedule's last rate. `epochs` must be from 2 to full.epochs.
 Schedule compressed(const Schedule& full, int epochs);
 
+// `epochs` more epochs after the end of `full`, for fine-tuning weights that `full` trained on a
+// grown dataset (--init-weights, docs/training.md "Fine-tuning"): the learning rate goes on from
+// the rate after full's last epoch with full's decay, and scheduled sampling stays where full
+// ended (UGNet fully autoregressive). `epochs` must be ≥ 1.
+Schedule continued(const Schedule& full, int epochs);
+
 // Clip and window geometry (paper §III.A, docs/conventions.md#training-data).
 inline constexpr int kClipRows = 45;
 inline constexpr int kClipHop = 7;  // (45 − 30) / 2, the authors' "overlap of 7"

@@ -164,6 +164,7 @@ class Run {
   Clock::time_point segment_start_ = Clock::now();  // since state_ times were last updated
   bool resumed_ = false;
   std::filesystem::path checkpoint_path_;
+  std::string initial_weights_hash_;  // SHA-256 of options_.initial_weights, if any
 };
 
 std::string Run::fingerprint() const {
@@ -175,6 +176,9 @@ std::string Run::fingerprint() const {
     << k.weight_decay << "|ss " << k.scheduled_sampling << " " << k.teacher_forcing_epochs << " "
     << k.autoregressive_from_epoch << "|max batches " << options_.max_batches << "|data "
     << options_.dataset_hash << " " << data_.train.count << "/" << data_.validation.count;
+  if (!initial_weights_hash_.empty()) {
+    s << "|from " << initial_weights_hash_;
+  }
   return s.str();
 }
 
@@ -206,6 +210,12 @@ void Run::resume_or_start() {
   torch::manual_seed(options_.seed);
   model_ = make_network(options_.network);
   model_->train();
+  if (!options_.initial_weights.empty()) {
+    // Before flattening, which copies the parameters into the flat buffer. A resumed run's
+    // checkpoint overwrites them below.
+    load_weights(*model_, SafetensorsFile::read(options_.initial_weights));
+    initial_weights_hash_ = sha256_file(options_.initial_weights);
+  }
   flat_ = flatten(*model_);
   const bool moe = options_.network == Network::kMpnetMoe || options_.network == Network::kUgnetMoe;
   if (moe && !options_.autograd) {
@@ -523,6 +533,9 @@ TrainOutcome Run::finish(const std::filesystem::path& dir) {
   m.trained_by = state_.trainers;
   m.dataset_hash = options_.dataset_hash;
   m.dataset_files = options_.dataset_files;
+  if (!options_.initial_weights.empty()) {
+    m.initial_weights = {options_.initial_weights.string(), initial_weights_hash_};
+  }
   m.train_examples = data_.train.count;
   m.validation_examples = data_.validation.count;
   m.parameter_count = static_cast<std::size_t>(flat_.numel);

@@ -41,6 +41,10 @@ struct TrainOptions {
   // Non-empty: train nothing; write the weights and manifest of out_dir's checkpoint (a run in
   // progress, or a finished one) into this directory. The checkpoint is only read.
   std::filesystem::path export_to;
+  // Non-empty: exported weights (the authors' tensor names, this network's shapes) the run starts
+  // from instead of a random initialisation, for fine-tuning (schedule.h continued); the
+  // optimiser's moments start at zero. Its SHA-256 is part of the run's identity.
+  std::filesystem::path initial_weights;
   std::string command_line;
   std::string dataset_hash;
   std::vector<std::string> dataset_files;

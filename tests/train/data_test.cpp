@@ -154,6 +154,32 @@ TEST(Schedule, CompressedKeepsTheShapeOfTheWholeSchedule) {
   EXPECT_THROW(compressed(full, 121), deixis::Error);
 }
 
+// Continuing a schedule (fine-tuning): the learning rate goes on from where the full schedule
+// ended, UGNet stays fully autoregressive, MPNet keeps feeding its ground truth.
+TEST(Schedule, ContinuedGoesOnFromTheEndOfTheSchedule) {
+  const Schedule ugnet = default_schedule(Family::kUgnet);
+  const Schedule u = continued(ugnet, 20);
+  EXPECT_EQ(u.epochs, 20);
+  EXPECT_NEAR(u.learning_rate_at(1), ugnet.learning_rate_at(121), 1e-18);
+  EXPECT_NEAR(u.learning_rate_at(20), ugnet.learning_rate_at(140), 1e-18);
+  for (const int epoch : {1, 10, 20}) {
+    EXPECT_EQ(u.teacher_forcing_at(epoch), 0.0) << epoch;
+  }
+  EXPECT_EQ(u.batch_size, ugnet.batch_size);
+  const Schedule mpnet = default_schedule(Family::kMpnet);
+  const Schedule m = continued(mpnet, 5);
+  EXPECT_NEAR(m.learning_rate_at(1), 1e-4 * std::pow(0.975, 80), 1e-18);
+  EXPECT_EQ(m.teacher_forcing_at(3), 1.0);
+  // Still teacher-forced at its end (cut to 20 epochs): stays teacher-forced.
+  Schedule early = ugnet;
+  early.epochs = 20;
+  EXPECT_EQ(continued(early, 4).teacher_forcing_at(4), 1.0);
+  // Cut inside the ramp: no single P to keep.
+  early.epochs = 45;
+  EXPECT_THROW(continued(early, 4), deixis::Error);
+  EXPECT_THROW(continued(ugnet, 0), deixis::Error);
+}
+
 // ---- progress ----
 
 // The ETA follows the pace of the last five epochs: after a run sped up (a faster trainer, a

@@ -2,7 +2,8 @@
 // at a time): on a tiny capture it trains the shipped set for one epoch of two batches, and
 // assembles a weight set under the authors' file names that the runtime loads as the right
 // networks; run again, every run resumes from its finished checkpoint instead of training again;
-// bad options and missing data exit 2 naming them, and a failing run fails the command.
+// it fine-tunes the shipped weights into a set of the same names; bad options and missing data
+// exit 2 naming them, and a failing run fails the command.
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -129,6 +130,54 @@ TEST(TrainSet, TrainsTheShippedSetAndAssemblesAWeightSetTheRuntimeLoads) {
   }
   EXPECT_EQ(resumed, 4u) << second.output;
   EXPECT_EQ(read_all(out / "weights/left/UGNet(MoE)(AC)1.safetensors"), weights_before);
+}
+
+// Fine-tuning the shipped weights (assets/weights) on a tiny capture: each run starts from the
+// shipped file of its role, runs in a directory of its own, and its result takes that file's
+// name, so the weight set drops in where the shipped one is.
+TEST(TrainSet, FineTunesAWeightSetAndKeepsItsNames) {
+  deixis::testing::ScratchDir scratch;
+  const fs::path data = make_tiny_capture(scratch.path());
+  const fs::path out = scratch.path() / "tuned";
+  const fs::path shipped = deixis::testing::source_dir() / "assets/weights";
+  const Outcome tuned =
+      run(concat(train_set(), " --data ", quoted(data.string()), " --out ", quoted(out.string()),
+                 " --trainer ", quoted(DEIXIS_TRAIN_EXE), " --fine-tune ", quoted(shipped.string()),
+                 " --fine-tune-epochs 1,1 -- --max-batches 2"),
+          scratch.path());
+  ASSERT_EQ(tuned.exit_code, 0) << tuned.output;
+  for (const char* hand : {"right", "left"}) {
+    EXPECT_TRUE(fs::exists(out / concat("mpnet-moe-ft1-", hand) / "checkpoint.safetensors"));
+    const fs::path set = out / "weights" / hand;
+    EXPECT_EQ(nn::Mpnet::load(set / "MPNet(MoE)(AC)80.safetensors").architecture(),
+              nn::MpnetArchitecture::kGruMoe);
+    EXPECT_EQ(nn::Ugnet::load(set / "UGNet(MoE)(AC)120.safetensors").architecture(),
+              nn::UgnetArchitecture::kMoe);
+    const std::string manifest = read_all(set / "UGNet(MoE)(AC)120.manifest.json");
+    EXPECT_NE(manifest.find(concat("\"file\": \"", (shipped / hand).string(),
+                                   "/UGNet(MoE)(AC)120.safetensors\"")),
+              std::string::npos)
+        << manifest;
+    EXPECT_NE(read_all(set / "UGNet(MoE)(AC)120.safetensors"),
+              read_all(shipped / hand / "UGNet(MoE)(AC)120.safetensors"));
+  }
+
+  // A weight set missing a file, or fine-tuning another set: refused before any run.
+  fs::create_directories(scratch.path() / "partial/right");
+  const Outcome partial = run(concat(train_set(), " --data ", quoted(data.string()), " --trainer ",
+                                     quoted(DEIXIS_TRAIN_EXE), " --fine-tune ",
+                                     quoted((scratch.path() / "partial").string())),
+                              scratch.path());
+  EXPECT_EQ(partial.exit_code, 2);
+  EXPECT_NE(partial.output.find("partial/right/MPNet(MoE)(AC)80.safetensors"), std::string::npos)
+      << partial.output;
+  const Outcome other_set =
+      run(concat(train_set(), " --set fmd --data ", quoted(data.string()), " --trainer ",
+                 quoted(DEIXIS_TRAIN_EXE), " --fine-tune ", quoted(shipped.string())),
+          scratch.path());
+  EXPECT_EQ(other_set.exit_code, 2);
+  EXPECT_NE(other_set.output.find("--fine-tune works on --set shipped"), std::string::npos)
+      << other_set.output;
 }
 
 TEST(TrainSet, BadOptionsAndMissingDataExitTwoNamingThem) {

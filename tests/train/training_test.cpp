@@ -1,7 +1,8 @@
 // Training itself: a tiny run lowers its loss (MPNet and UGNet MoE); a run killed with SIGKILL in
 // the middle of an epoch and started again with the same command reproduces the losses and the
-// weights of a run that was never interrupted; the exported weights load in the runtime; a corrupt
-// dataset or a checkpoint of another run fails with the file and the field named.
+// weights of a run that was never interrupted; the exported weights load in the runtime; a
+// fine-tuning run starts from the weights it is given; a corrupt dataset, another network's
+// weights or a checkpoint of another run fails with the file and the field named.
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -26,6 +27,7 @@
 #include "synthetic_sequences.h"
 #include "test_support.h"
 #include "train/checkpoint.h"
+#include "train/manifest.h"
 #include "train/trainer.h"
 
 extern char** environ;
@@ -467,6 +469,88 @@ TEST_F(Executable, ACheckpointOfAnotherRunIsRefused) {
   EXPECT_EQ(other.exit_code, 2);
   EXPECT_NE(other.output.find("checkpoint.safetensors"), std::string::npos) << other.output;
   EXPECT_NE(other.output.find("--restart"), std::string::npos) << other.output;
+}
+
+// Fine-tuning: a run given --init-weights starts from those weights (with a learning rate too
+// small to move them, its export equals them to the bit; given the schedule's continuation, its
+// first epoch already scores what the weights scored), the manifest names the file and its hash,
+// and a checkpoint of a run from other weights is refused.
+TEST_F(Executable, FineTuningStartsFromTheGivenWeights) {
+  const fs::path base = dir_.path() / "base";
+  ASSERT_EQ(run(command(data_, validation_, base), dir_.path() / "base.log").exit_code, 0);
+  const fs::path weights = base / "MPNet(MoE)(AC).safetensors";
+  auto fine_tune = [&](const fs::path& out, const fs::path& from,
+                       const std::vector<std::string>& more) {
+    std::vector<std::string> args = {DEIXIS_TRAIN_EXE, "mpnet",
+                                     "--data",         data_.string(),
+                                     "--validation",   validation_.string(),
+                                     "--out",          out.string(),
+                                     "--init-weights", from.string(),
+                                     "--batch-size",   "4",
+                                     "--seed",         "5",
+                                     "--threads",      "1"};
+    args.insert(args.end(), more.begin(), more.end());
+    return run(args, out.string() + ".log");
+  };
+
+  const fs::path still = dir_.path() / "still";
+  const Result a =
+      fine_tune(still, weights, {"--epochs", "1", "--max-batches", "2", "--lr", "1e-30"});
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  const SafetensorsFile original = SafetensorsFile::read(weights);
+  const SafetensorsFile kept = SafetensorsFile::read(still / "MPNet(MoE)(AC).safetensors");
+  for (const TensorInfo& t : original.tensors()) {
+    EXPECT_EQ(original.read_f32(t.name, t.shape), kept.read_f32(t.name, t.shape)) << t.name;
+  }
+  const nlohmann::json m = manifest(still);
+  EXPECT_EQ(m["initial_weights"]["file"].get<std::string>(), weights.string());
+  EXPECT_EQ(m["initial_weights"]["sha256"].get<std::string>(), sha256_file(weights));
+
+  const fs::path tuned = dir_.path() / "tuned";
+  const Result b = fine_tune(tuned, weights, {"--continue", "1"});
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  const nlohmann::json first = manifest(base), second = manifest(tuned);
+  EXPECT_LT(second["history"][0]["validation_loss"].get<double>(),
+            first["history"][0]["validation_loss"].get<double>())
+      << "the fine-tuning's first epoch should start from the trained weights";
+  EXPECT_NEAR(second["schedule"]["learning_rate"].get<double>(), 1e-4 * std::pow(0.975, 80), 1e-18);
+  EXPECT_FALSE(first.contains("initial_weights"));
+
+  // Other starting weights (one value changed): the run's checkpoint is not theirs.
+  const fs::path other = dir_.path() / "other.safetensors";
+  SafetensorsWriter writer;
+  bool changed = false;
+  for (const TensorInfo& t : original.tensors()) {
+    std::vector<float> values = original.read_f32(t.name, t.shape);
+    if (!changed) {
+      values[0] += 0.5f;
+      changed = true;
+    }
+    writer.add_f32(t.name, t.shape, values);
+  }
+  writer.write(other);
+  const Result refused = fine_tune(tuned, other, {"--continue", "1"});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.output.find("checkpoint of a different run"), std::string::npos)
+      << refused.output;
+}
+
+TEST_F(Executable, FineTuningFromAnotherNetworksWeightsIsAnErrorNamingTheFile) {
+  const fs::path base = dir_.path() / "base";
+  ASSERT_EQ(run(command(data_, validation_, base), dir_.path() / "base.log").exit_code, 0);
+  const fs::path weights = base / "MPNet(MoE)(AC).safetensors";
+  const Result r =
+      run({DEIXIS_TRAIN_EXE, "ugnet", "--data", data_.string(), "--out",
+           (dir_.path() / "u").string(), "--init-weights", weights.string(), "--continue", "1"},
+          dir_.path() / "u.log");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find(weights.string() + ": tensor"), std::string::npos) << r.output;
+  // --continue needs --init-weights.
+  const Result alone = run({DEIXIS_TRAIN_EXE, "mpnet", "--data", data_.string(), "--out",
+                            (dir_.path() / "m").string(), "--continue", "1"},
+                           dir_.path() / "m.log");
+  EXPECT_EQ(alone.exit_code, 2);
+  EXPECT_NE(alone.output.find("--init-weights"), std::string::npos) << alone.output;
 }
 
 TEST_F(Executable, ACorruptDatasetIsAnErrorNamingFileAndField) {
