@@ -162,6 +162,28 @@ TEST(TrainSet, FineTunesAWeightSetAndKeepsItsNames) {
               read_all(shipped / hand / "UGNet(MoE)(AC)120.safetensors"));
   }
 
+  // 0 epochs for MPNet: only UGNet trains, and the set holds the shipped MPNet as it is.
+  const fs::path half = scratch.path() / "half";
+  const Outcome ugnet_only =
+      run(concat(train_set(), " --data ", quoted(data.string()), " --out ", quoted(half.string()),
+                 " --trainer ", quoted(DEIXIS_TRAIN_EXE), " --fine-tune ", quoted(shipped.string()),
+                 " --fine-tune-epochs 0,1 -- --max-batches 2"),
+          scratch.path());
+  ASSERT_EQ(ugnet_only.exit_code, 0) << ugnet_only.output;
+  EXPECT_EQ(ugnet_only.output.find("[mpnet"), std::string::npos) << ugnet_only.output;
+  for (const char* hand : {"right", "left"}) {
+    EXPECT_EQ(read_all(half / "weights" / hand / "MPNet(MoE)(AC)80.safetensors"),
+              read_all(shipped / hand / "MPNet(MoE)(AC)80.safetensors"));
+    EXPECT_NE(read_all(half / "weights" / hand / "UGNet(MoE)(AC)120.safetensors"),
+              read_all(shipped / hand / "UGNet(MoE)(AC)120.safetensors"));
+  }
+  const Outcome nothing = run(concat(train_set(), " --data ", quoted(data.string()), " --trainer ",
+                                     quoted(DEIXIS_TRAIN_EXE), " --fine-tune ",
+                                     quoted(shipped.string()), " --fine-tune-epochs 0,0"),
+                              scratch.path());
+  EXPECT_EQ(nothing.exit_code, 2);
+  EXPECT_NE(nothing.output.find("not '0,0'"), std::string::npos) << nothing.output;
+
   // A weight set missing a file, or fine-tuning another set: refused before any run.
   fs::create_directories(scratch.path() / "partial/right");
   const Outcome partial = run(concat(train_set(), " --data ", quoted(data.string()), " --trainer ",
