@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "dataset/dataset.h"
 #include "train/clips.h"
+#include "train/interpolate.h"
 #include "train/manifest.h"
 #include "train/trainer.h"
 
@@ -224,6 +225,23 @@ int main(int argc, char** argv) {
       "The FMD motion autoencoder: 600 epochs, batch 8, Adam 1e-3 x0.999/epoch, 30-frame "
       "segments of head and hand");
   add_common(autoencoder, autoencoder_flags, "");
+  std::string from, to, blend_out;
+  double alpha = 0.5;
+  CLI::App* interpolate = app.add_subcommand(
+      "interpolate",
+      "Blend two weight files of one network, (1 - alpha) * FROM + alpha * TO per tensor (e.g. "
+      "the weights a fine-tuning started from and its result; docs/training.md, "
+      "\"Fine-tuning\"), with a manifest naming both");
+  interpolate->add_option("--from", from, "Weights at alpha = 0")
+      ->required()
+      ->check(CLI::ExistingFile);
+  interpolate->add_option("--to", to, "Weights at alpha = 1 (their manifest is carried over)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  interpolate->add_option("--alpha", alpha, "Share of --to")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  interpolate->add_option("--out", blend_out, "The blended weights (.safetensors)")->required();
 
   // Bad flags exit 2 (as bad files do, and as `deixis` does), with CLI11's message naming the
   // flag; --help exits 0.
@@ -244,6 +262,11 @@ int main(int argc, char** argv) {
     }
     if (ugnet->parsed()) {
       return run(Family::kUgnet, ugnet_flags, command_line);
+    }
+    if (interpolate->parsed()) {
+      write_interpolation(from, to, alpha, blend_out);
+      std::cout << "wrote " << blend_out << " (alpha " << alpha << ")\n";
+      return 0;
     }
     return run(Family::kMotionAutoencoder, autoencoder_flags, command_line);
   } catch (const deixis::Error& e) {
