@@ -89,6 +89,7 @@ int run_capture_generate(const CaptureGenerateOptions& o) {
     }
     options.subjects = o.subjects;
     options.count_scale = o.count_scale;
+    options.low_targets = o.low_targets;
     options.train_noise = o.train_noise;
     options.test_noise = o.test_noise;
     const auto started = std::chrono::steady_clock::now();

@@ -301,6 +301,10 @@ void add_capture(CLI::App& program, const Invocation&, std::vector<Runner>& runn
       ->add_option("--count-scale", generate->count_scale,
                    "Scale every category's sequence count (e.g. 0.05 for a quick small set)")
       ->capture_default_str();
+  generate_cmd->add_flag(
+      "!--without-low-targets", generate->low_targets,
+      "The training set without its low-target pointing sequences: the capture as it was "
+      "before they were added, for comparisons (docs/dataset.md)");
   generate_cmd
       ->add_option("--train-noise", generate->train_noise,
                    "Tracker noise of the training set: none, mocap, headset")

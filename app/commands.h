@@ -40,6 +40,7 @@ struct CaptureGenerateOptions {
   std::vector<std::string> sets;      // train, test, validation; empty: all
   std::vector<std::string> subjects;  // empty: every subject of the chosen sets
   double count_scale = 1.0;
+  bool low_targets = true;
   std::string train_noise = "mocap";
   std::string test_noise = "headset";
 };

@@ -85,10 +85,11 @@ struct CategoryCounts {
   int low = 0;
 };
 
-CategoryCounts category_counts(std::string_view set, Category c, double count_scale) {
+CategoryCounts category_counts(std::string_view set, Category c, double count_scale,
+                               bool low_targets = true) {
   const bool training = set == kTrainingSet;
   const int first = scaled_count(training ? training_count(c) : test_count(c), count_scale);
-  return {first, training ? low_target_count(c, first) : 0};
+  return {first, training && low_targets ? low_target_count(c, first) : 0};
 }
 
 void describe(dataset::DatasetWriter& w, const Plan& plan, const GenerateOptions& options,
@@ -111,9 +112,11 @@ void describe(dataset::DatasetWriter& w, const Plan& plan, const GenerateOptions
   if (plan.set == kTrainingSet) {
     int low = 0;
     for (const Category c : kAllCategories) {
-      low += category_counts(plan.set, c, options.count_scale).low;
+      low += category_counts(plan.set, c, options.count_scale, options.low_targets).low;
     }
-    w.set_metadata("low_pointing_elevation_deg", elevation_range(low_target_rules()));
+    if (low > 0) {  // tools/run train looks for this key: a capture without it is rewritten
+      w.set_metadata("low_pointing_elevation_deg", elevation_range(low_target_rules()));
+    }
     w.set_metadata("low_pointing_sequences", std::to_string(low));
   }
   w.set_metadata("categories", categories_list());
@@ -256,12 +259,14 @@ std::vector<GeneratedFile> generate_datasets(const GenerateOptions& options,
 
     std::size_t total = 0;
     for (const Category c : kAllCategories) {
-      const CategoryCounts n = category_counts(plan.set, c, options.count_scale);
+      const CategoryCounts n =
+          category_counts(plan.set, c, options.count_scale, options.low_targets);
       total += static_cast<std::size_t>(n.first + n.low);
     }
     std::size_t done = 0;
     for (const Category c : kAllCategories) {
-      const CategoryCounts n = category_counts(plan.set, c, options.count_scale);
+      const CategoryCounts n =
+          category_counts(plan.set, c, options.count_scale, options.low_targets);
       for (int i = 0; i < n.first + n.low; ++i) {
         const Sequence clean =
             clean_sequence(options.seed, plan.set, *plan.subject, c, i, options.count_scale);

@@ -42,6 +42,7 @@ struct GenerateOptions {
   std::vector<std::string> sets = {"train", "test", "validation"};
   std::vector<std::string> subjects;  // empty: every subject of each set
   double count_scale = 1.0;           // scales every per-category count (each stays ≥ 1)
+  bool low_targets = true;            // false: the training set without low_target_count's
   std::string train_noise = "mocap";
   std::string test_noise = "headset";
 };

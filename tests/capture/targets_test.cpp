@@ -11,7 +11,9 @@
 #include "capture/generate.h"
 #include "capture/script.h"
 #include "capture/subject.h"
+#include "core/io/safetensors.h"
 #include "core/math/angles.h"
+#include "test_support.h"
 
 namespace deixis::capture {
 namespace {
@@ -108,6 +110,39 @@ TEST(CaptureTargets, ScaledCapturesAddAfterTheScaledCount) {
     r = pointing_elevations(clean_sequence(1, kTrainingSet, subject, c, i, 0.1), r);
   }
   EXPECT_LE(r.highest, low_target_rules().pointing_elevation_max_deg + kSlackDeg);
+}
+
+// The training file says how many low-target sequences it holds and their range (tools/run
+// train rewrites a capture without that range); --without-low-targets leaves them out.
+TEST(CaptureTargets, TheTrainingFileNamesItsLowTargets) {
+  deixis::testing::ScratchDir dir;
+  GenerateOptions o;
+  o.sets = {"train"};
+  o.count_scale = 0.1;
+  const auto quiet = [](const std::string&, std::size_t, std::size_t, std::size_t) {};
+  for (const bool low : {true, false}) {
+    o.low_targets = low;
+    o.out_dir = dir.path() / (low ? "with" : "without");
+    const std::vector<GeneratedFile> files = generate_datasets(o, quiet);
+    const SafetensorsFile f = SafetensorsFile::read(o.out_dir / "train_right.safetensors");
+    int added = 0;
+    for (const Category c : kAllCategories) {
+      const int count = std::max(1, static_cast<int>(std::lround(training_count(c) * 0.1)));
+      added += low_target_count(c, count);
+    }
+    EXPECT_EQ(f.metadata().at("low_pointing_sequences"), std::to_string(low ? added : 0));
+    EXPECT_EQ(f.metadata().contains("low_pointing_elevation_deg"), low);
+    EXPECT_EQ(f.metadata().at("pointing_elevation_deg"), "-25,30");
+    // Recordings: every sequence once, the speed-augmented categories' three times.
+    std::size_t recordings = 0;
+    for (const Category c : kAllCategories) {
+      const int count = std::max(1, static_cast<int>(std::lround(training_count(c) * 0.1)));
+      const int n = count + (low ? low_target_count(c, count) : 0);
+      recordings += static_cast<std::size_t>(n * (is_speed_augmented(c) ? 3 : 1));
+    }
+    EXPECT_EQ(files.front().sequences, recordings);
+    EXPECT_GT(added, 0);
+  }
 }
 
 TEST(CaptureTargets, RulesAreWhatPerformUses) {
