@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "core/io/safetensors.h"
 #include "dataset/dataset.h"
+#include "error_of.h"
 #include "test_support.h"
 
 namespace deixis::capture {
@@ -15,16 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Runs `f` and returns the deixis::Error message it throws ("" when it throws none).
-template <class F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using deixis::testing::error_of;
 
 TEST(CaptureErrors, BadSubjectParametersNameTheSubjectAndField) {
   struct Case {

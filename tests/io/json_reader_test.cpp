@@ -10,6 +10,7 @@
 
 #include "core/io/json_guard.h"
 #include "core/io/text_rules.h"
+#include "error_of.h"
 #include "net/protocol.h"
 #include "test_support.h"
 
@@ -19,14 +20,7 @@ namespace {
 // The wire's limit and the file readers' limit are one number.
 static_assert(kMaxNameBytes == net::kMaxTextBytes);
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using deixis::testing::error_of;
 
 std::string nested(std::size_t depth) {
   return std::string(depth, '[') + std::string(depth, ']');

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "error_of.h"
 #include "test_support.h"
 #include "train/manifest.h"
 
@@ -36,14 +37,7 @@ fs::path write_weights(const fs::path& path, float base, std::vector<std::int64_
 const std::vector<std::int64_t> kWeightShape = {2, 3};
 const std::vector<std::int64_t> kBiasShape = {2};
 
-std::string error_of(const auto& call) {
-  try {
-    call();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using deixis::testing::error_of;
 
 TEST(Interpolate, BlendsTensorByTensor) {
   deixis::testing::ScratchDir dir;
