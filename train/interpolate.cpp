@@ -2,48 +2,15 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <sstream>
 #include <string>
 
 #include "core/error.h"
+#include "core/io/atomic_file.h"
 #include "train/manifest.h"
 
 namespace deixis::train {
-
-namespace {
-
-std::string shape_text(const std::vector<std::int64_t>& shape) {
-  std::string s = "[";
-  for (std::size_t i = 0; i < shape.size(); ++i) {
-    s += (i > 0 ? ", " : "") + std::to_string(shape[i]);
-  }
-  return s + "]";
-}
-
-// read_f32 refuses non-finite values, naming the file, tensor and element.
-std::vector<float> values_of(const SafetensorsFile& file, const TensorInfo& t) {
-  if (t.dtype != DType::kF32) {
-    throw Error(file.source() + ": tensor '" + t.name + "' is not F32");
-  }
-  return file.read_f32(t.name, t.shape);
-}
-
-// b's tensor of a's tensor's name, checked to be the same shape.
-const TensorInfo& counterpart(const SafetensorsFile& b, const SafetensorsFile& a,
-                              const TensorInfo& t) {
-  for (const TensorInfo& u : b.tensors()) {
-    if (u.name == t.name) {
-      if (u.shape != t.shape) {
-        throw Error(b.source() + ": tensor '" + t.name + "' has shape " + shape_text(u.shape) +
-                    ", " + a.source() + " has " + shape_text(t.shape));
-      }
-      return u;
-    }
-  }
-  throw Error(b.source() + ": tensor '" + t.name + "' missing (" + a.source() + " has it)");
-}
-
-}  // namespace
 
 SafetensorsWriter interpolate_weights(const SafetensorsFile& a, const SafetensorsFile& b,
                                       double alpha) {
@@ -63,8 +30,10 @@ SafetensorsWriter interpolate_weights(const SafetensorsFile& a, const Safetensor
   out.set_metadata("interpolation_alpha", alpha_text.str());
   const auto weight = static_cast<float>(alpha);
   for (const TensorInfo& t : a.tensors()) {
-    const std::vector<float> from = values_of(a, t);
-    const std::vector<float> to = values_of(b, counterpart(b, a, t));
+    // read_f32 checks each file holds the tensor as F32 of this shape with finite values, and
+    // names the file, tensor and what differs.
+    const std::vector<float> from = a.read_f32(t.name, t.shape);
+    const std::vector<float> to = b.read_f32(t.name, t.shape);
     std::vector<float> blend(from.size());
     for (std::size_t i = 0; i < from.size(); ++i) {
       blend[i] = (1.0f - weight) * from[i] + weight * to[i];
@@ -99,11 +68,8 @@ void write_interpolation(const std::filesystem::path& a, const std::filesystem::
   blend.write(out);
   const std::filesystem::path out_manifest =
       out.parent_path() / (out.stem().string() + ".manifest.json");
-  std::ofstream file(out_manifest);
-  file << manifest.dump(2) << "\n";
-  if (!file) {
-    throw Error(out_manifest.string() + ": cannot write");
-  }
+  const std::string text = manifest.dump(2) + "\n";
+  write_file_atomically(out_manifest, std::as_bytes(std::span(text)));
 }
 
 }  // namespace deixis::train

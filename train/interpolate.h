@@ -10,8 +10,9 @@
 
 namespace deixis::train {
 
-// Throws deixis::Error naming the file and tensor when the two hold different tensors (names,
-// dtype F32 only, shapes) or a non-finite value, and when alpha is outside [0, 1]. The result
+// Throws deixis::Error naming the file and tensor when the two hold different tensors (count,
+// names, dtype F32 only, shapes) or a non-finite value (SafetensorsFile::read_f32's checks), and
+// when alpha is outside [0, 1]. The result
 // keeps b's metadata and adds `interpolation_alpha`.
 SafetensorsWriter interpolate_weights(const SafetensorsFile& a, const SafetensorsFile& b,
                                       double alpha);

@@ -7,9 +7,11 @@
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <span>
 
 #include "build_commit.h"  // generated: DEIXIS_BUILD_COMMIT
 #include "core/error.h"
+#include "core/io/atomic_file.h"
 
 namespace deixis::train {
 
@@ -129,15 +131,8 @@ void write_manifest(const std::filesystem::path& path, const Manifest& m) {
     manifest["reconstruction"] = {{"training", entry(m.training_reconstruction)},
                                   {"validation", entry(m.validation_reconstruction)}};
   }
-  const std::filesystem::path temporary = path.string() + ".tmp";
-  {
-    std::ofstream out(temporary);
-    out << manifest.dump(2) << "\n";
-    if (!out) {
-      throw Error(temporary.string() + ": cannot write");
-    }
-  }
-  std::filesystem::rename(temporary, path);
+  const std::string text = manifest.dump(2) + "\n";
+  write_file_atomically(path, std::as_bytes(std::span(text)));
 }
 
 }  // namespace deixis::train

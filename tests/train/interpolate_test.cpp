@@ -81,7 +81,7 @@ TEST(Interpolate, OtherNetworksNonFiniteValuesAndBadAlphaAreErrors) {
       SafetensorsFile::read(write_weights(dir.path() / "other.safetensors", 1, {3, 2}));
   EXPECT_NE(error_of([&] {
               interpolate_weights(a, other, 0.5);
-            }).find("other.safetensors: tensor 'gru.weight' has shape [3, 2]"),
+            }).find("other.safetensors: tensor 'gru.weight': expected shape [2, 3], found [3, 2]"),
             std::string::npos);
 
   SafetensorsWriter fewer;
@@ -90,7 +90,7 @@ TEST(Interpolate, OtherNetworksNonFiniteValuesAndBadAlphaAreErrors) {
   fewer.write(dir.path() / "fewer.safetensors");
   EXPECT_NE(error_of([&] {
               interpolate_weights(a, SafetensorsFile::read(dir.path() / "fewer.safetensors"), 0.5);
-            }).find("fewer.safetensors: tensor 'gru.weight' missing"),
+            }).find("fewer.safetensors: tensor 'gru.weight': missing"),
             std::string::npos);
 
   SafetensorsWriter nan;
