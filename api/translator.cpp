@@ -39,6 +39,7 @@ presence::RemoteAvatarConfig config_from_c(const deixis_translator_config& c) {
   config.noise_seed = c.noise_seed;
   config.touch_contact = c.touch_contact != 0;
   config.gaze_settle = c.gaze_settle != 0;
+  config.pointing_settle = c.pointing_settle != 0;
   return config;
 }
 
@@ -77,6 +78,7 @@ void deixis_translator_config_init(deixis_translator_config* config) {
   config->mirror = DEIXIS_MIRROR_AUTO;
   config->touch_contact = 1;
   config->gaze_settle = 1;
+  config->pointing_settle = 1;
 }
 
 deixis_status deixis_translator_create(uint32_t abi_version, const deixis_mpnet* mpnet,

@@ -126,6 +126,7 @@ bool Translator::begin_tick(const TrackingFrame* frame, const LocalTargets& room
   result_.deictic_hand = config_.user.deictic_hand;
   result_.head_target = result_.hand_target = kNoTarget;
   result_.person_gaze_off_deg = 180.0f;
+  result_.person_point_off_deg = 180.0f;
   result_.progression = {};
   result_.head_weight = result_.hand_weight = 0.0f;
   if (frame != nullptr && usable(*frame)) {
@@ -208,6 +209,8 @@ void Translator::finish_tick() {
   // gaze and their head target, in radians.
   result_.person_gaze_off_deg = input_.user_features[mf::kEyeToHeadTarget] * kDegPerRad;
   result_.hand_target = last_valid_.hand_target;
+  // IT^R of the same frame: the person's eye → fingertip ray against the ray to their hand target.
+  result_.person_point_off_deg = input_.user_features[mf::kFingerToHandTarget] * kDegPerRad;
   result_.progression = step_.progression;
   result_.head_weight = step_.head_weight;
   result_.hand_weight = step_.hand_weight;

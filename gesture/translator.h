@@ -61,6 +61,10 @@ struct AvatarFrame {
   // the frame): near 0 while their eyes are on it (presence/gaze_settle.h).
   float person_gaze_off_deg = 180.0f;
   TargetId hand_target = kNoTarget;  // what the person's hand designates (held with the frame)
+  // How far the person's own eye → fingertip ray is from their hand target in their room,
+  // degrees (MPNet's IT^R, held with the frame): near 0 while they point at it
+  // (presence/pointing_settle.h).
+  float person_point_off_deg = 180.0f;
   nn::Progression progression{};
   float head_weight = 0.0f;
   float hand_weight = 0.0f;

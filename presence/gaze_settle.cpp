@@ -6,16 +6,9 @@
 #include <Eigen/Geometry>
 
 #include "core/math/angles.h"
+#include "core/math/smoothstep.h"
 
 namespace deixis::presence {
-namespace {
-
-float smoothstep(float x) {
-  const float t = std::clamp(x, 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
-
-}  // namespace
 
 Vec3 settled_gaze(const Vec3& gaze, const Vec3& eyes, const Vec3* target, float person_off_deg,
                   float head_weight, const GazeSettleConfig& config) {

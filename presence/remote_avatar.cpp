@@ -6,6 +6,7 @@
 #include "ik/other_arm_job.h"
 #include "presence/body_turn.h"
 #include "presence/gaze_settle.h"
+#include "presence/pointing_settle.h"
 #include "presence/touch_contact.h"
 
 namespace deixis::presence {
@@ -42,6 +43,7 @@ RemoteAvatar::RemoteAvatar(nn::Mpnet mpnet, nn::Ugnet ugnet, const ik::AvatarSol
           ik::T_world_root_from_origin(solver, translator_.config().T_world_avatar_root)),
       touch_contact_(config.touch_contact),
       gaze_settle_(config.gaze_settle),
+      pointing_settle_(config.pointing_settle),
       body_turn_(config.body_turn),
       local_(solver.rig.skeleton.rest_local),
       model_(solver.rest_model) {}
@@ -58,6 +60,21 @@ bool RemoteAvatar::begin_tick(const TrackingFrame* frame, const LocalTargets& ro
     turn_body(room);
   }
   return translator_.begin_tick(frame, room);
+}
+
+void RemoteAvatar::settle_pointing(const LocalTargets& room) {
+  // About the eyes where IK put them last tick, not the networks' H: the watcher's eye →
+  // fingertip ray starts at the avatar's eyes, IK places them a little off H (low targets: up to
+  // 2–3° of the ray's direction), and during a hold they hardly move from one tick to the next.
+  // Before touch contact, which then measures the settled fingertip against the object's surface.
+  const Vec3 eyes = eye_midpoint();
+  const Mat3 R = pointing_settle_rotation(
+      frame_.deictic.index_tip, eyes, room.find_position(frame_.hand_target),
+      frame_.person_point_off_deg, frame_.progression[1], frame_.hand_weight);
+  Pose& wrist = targets_.deictic.T_world_wrist;
+  wrist.rotation = R * wrist.rotation;
+  wrist.translation = eyes + R * (wrist.translation - eyes);
+  targets_.deictic.index_tip = eyes + R * (targets_.deictic.index_tip - eyes);
 }
 
 void RemoteAvatar::turn_body(const LocalTargets& room) {
@@ -85,10 +102,13 @@ bool RemoteAvatar::finish_tick(const LocalTargets& room) {
   }
   targets_.deictic_hand = frame_.deictic_hand;
   targets_.deictic = frame_.deictic;
+  if (pointing_settle_) {
+    settle_pointing(room);
+  }
   if (touch_contact_) {
     const TargetObject* object = room.map != nullptr ? room.map->find(frame_.hand_target) : nullptr;
     const Vec3 offset = touch_contact_offset(
-        frame_.deictic.index_tip, object, frame_.progression[1], frame_.hand_weight,
+        targets_.deictic.index_tip, object, frame_.progression[1], frame_.hand_weight,
         TouchContactConfig{}.radius * solver_->rig.height / 1.70f);
     targets_.deictic.index_tip += offset;
     targets_.deictic.T_world_wrist.translation += offset;

@@ -8,8 +8,9 @@
 //
 // With touch contact on, a touch that UGNet brings within a few centimetres of the object ends on
 // its surface (touch_contact.h); with gaze settling on, a gaze that UGNet brings near this room's
-// copy of its target ends on it (gaze_settle.h); with body turn on, the avatar turns toward a
-// target that stands behind its spot while the person designates it (body_turn.h).
+// copy of its target ends on it (gaze_settle.h), and pointing settling does the same for the
+// hand (pointing_settle.h); with body turn on, the avatar turns toward a target that stands
+// behind its spot while the person designates it (body_turn.h).
 //
 // The avatar's root O (paper §IV.A: the eye midpoint H of its upright posture, yaw-only) is placed
 // from where it stands on this room's floor and the rig's own eye height, and its size (for the
@@ -31,6 +32,7 @@ struct RemoteAvatarConfig {
   bool touch_contact = true;     // finish touches on the object's surface (touch_contact.h)
   bool mirrored = false;         // the networks run on the person's mirror image (translator.h)
   bool gaze_settle = true;       // finish gazes on their target (gaze_settle.h)
+  bool pointing_settle = true;   // finish points on their target (pointing_settle.h)
   bool body_turn = true;         // turn toward targets behind the spot (body_turn.h)
 };
 
@@ -86,6 +88,7 @@ class RemoteAvatar {
  private:
   // Turns the body for this tick from last tick's designation (body_turn.h).
   void turn_body(const LocalTargets& room);
+  void settle_pointing(const LocalTargets& room);  // pointing_settle.h, on targets_
 
   const ik::AvatarSolver* solver_;
   Translator translator_;
@@ -94,6 +97,7 @@ class RemoteAvatar {
   Pose T_world_model_;
   bool touch_contact_;
   bool gaze_settle_;
+  bool pointing_settle_;
   bool body_turn_;
   AvatarFrame frame_;
   ik::AvatarTargets targets_;

@@ -3,15 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/math/smoothstep.h"
+
 namespace deixis::presence {
-namespace {
-
-float smoothstep(float x) {
-  const float t = std::clamp(x, 0.0f, 1.0f);
-  return t * t * (3.0f - 2.0f * t);
-}
-
-}  // namespace
 
 Vec3 touch_contact_offset(const Vec3& index_tip, const TargetObject* object,
                           float deictic_progression, float hand_weight, float radius,

@@ -170,7 +170,8 @@ void RemotePeople::dress(Slot& slot) {
                                    .noise_seed = static_cast<std::uint32_t>(slot.stats.id),
                                    .touch_contact = options_.touch_contact,
                                    .mirrored = mirrored,
-                                   .gaze_settle = options_.gaze_settle});
+                                   .gaze_settle = options_.gaze_settle,
+                                   .pointing_settle = options_.pointing_settle});
   if (options_.completions > 0) {
     slot.copy.emplace(slot.body, slot.T_world_origin, solver.rig.height);
     if (!slot.observer) {

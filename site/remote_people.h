@@ -48,6 +48,8 @@ struct RemotePeopleOptions {
   std::size_t completions = 0;
   bool touch_contact = true;
   bool gaze_settle = true;  // false: the networks' own gaze, unsettled (presence/gaze_settle.h)
+  // false: the networks' own pointing, unsettled (presence/pointing_settle.h)
+  bool pointing_settle = true;
   // Every remote person wears this avatar here, whatever they chose (a site's local override,
   // `--remote-avatar`); null: the site's own until wear() gives them theirs.
   std::shared_ptr<const PersonAvatar> override_avatar{};

@@ -50,7 +50,7 @@ extern "C" {
 #define DEIXIS_VERSION_MINOR 1
 #define DEIXIS_VERSION_PATCH 0
 /* Changes whenever a struct's layout or a function's meaning changes. */
-#define DEIXIS_ABI_VERSION 1
+#define DEIXIS_ABI_VERSION 2
 
 typedef enum deixis_status {
   DEIXIS_OK = 0,
@@ -269,9 +269,10 @@ typedef struct deixis_translator_config {
   int32_t mirror;           /* DEIXIS_MIRROR_* */
   int32_t touch_contact;    /* 1: a touch that arrived ends on the object's surface */
   int32_t gaze_settle;      /* 1: a gaze that nearly arrived ends on its target */
+  int32_t pointing_settle;  /* 1: a point that nearly arrived ends on its target (ABI 2) */
 } deixis_translator_config;
 /* deixis_body_calibration_init's person, the avatar at the origin facing -Z, seed 1,
- * DEIXIS_MIRROR_AUTO, touch contact and gaze settling on. */
+ * DEIXIS_MIRROR_AUTO, touch contact, gaze and pointing settling on. */
 DEIXIS_API void deixis_translator_config_init(deixis_translator_config* config);
 
 /* The networks and avatar must outlive the translator; several translators may share them.

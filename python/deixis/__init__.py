@@ -25,7 +25,7 @@ __all__ = [
     "WINDOW_ROWS", "MPNET_FEATURES", "UGNET_COLUMNS", "POSE_SIZE", "DIFFUSION_NOISE_SIZE",
 ]
 
-ABI_VERSION = 1
+ABI_VERSION = 2
 WINDOW_ROWS = 30
 MPNET_FEATURES = 11
 PROGRESSION_SIZE = 3
@@ -93,6 +93,7 @@ class _TranslatorConfig(_ct.Structure):
     _fields_ = [
         ("person", _BodyCalibration), ("avatar_floor", _Pose), ("noise_seed", _ct.c_uint32),
         ("mirror", _ct.c_int32), ("touch_contact", _ct.c_int32), ("gaze_settle", _ct.c_int32),
+        ("pointing_settle", _ct.c_int32),
     ]
 
 
@@ -444,7 +445,8 @@ class Translator(_Handle):
     _destroy = staticmethod(_translator_destroy)
 
     def __init__(self, mpnet, ugnet, avatar, person=None, avatar_floor=(0, 0, 0, 0, 0, 0, 1),
-                 noise_seed=1, mirror="auto", touch_contact=True, gaze_settle=True):
+                 noise_seed=1, mirror="auto", touch_contact=True, gaze_settle=True,
+                 pointing_settle=True):
         if mirror not in MIRRORS:
             raise ValueError(f"mirror: one of {sorted(MIRRORS)}, got {mirror!r}")
         config = _TranslatorConfig()
@@ -456,6 +458,7 @@ class Translator(_Handle):
         config.mirror = MIRRORS[mirror]
         config.touch_contact = int(bool(touch_contact))
         config.gaze_settle = int(bool(gaze_settle))
+        config.pointing_settle = int(bool(pointing_settle))
         self._networks = (mpnet, ugnet, avatar)  # they must outlive the translator
         self._handle = _create(_translator_create, mpnet._handle, ugnet._handle, avatar._handle,
                                _ct.byref(config))

@@ -32,9 +32,9 @@ Pose avatar_floor_in_b() {
 // relative to the user's root in room A, turned by `turn` (rad) about the vertical toward and
 // across the front (so it stays in front of the body, where people point and touch), its offset
 // from O scaled by `distance_scale` (the avatar's size relative to the user keeps touch targets
-// within reach).
+// within reach); at `height` above room B's floor (y = 0) unless it is NaN.
 TargetMap room_b(const capture::Sequence& sequence, const Pose& T_b_origin, float turn,
-                 float distance_scale) {
+                 float distance_scale, float height) {
   const Pose T_origin_a = inverse(sequence.calibration.T_world_root);
   TargetMap b;
   b.site.assign(1, 'B');  // not = "B": GCC 12 -O3 reports a false -Wrestrict there
@@ -48,6 +48,9 @@ TargetMap room_b(const capture::Sequence& sequence, const Pose& T_b_origin, floa
     TargetObject copy = object;
     copy.position = transform_point(T_b_origin, distance_scale * (yaw_rotation(signed_turn) * p));
     copy.size = object.size * distance_scale;
+    if (!std::isnan(height)) {
+      copy.position.y() = height;
+    }
     b.objects.push_back(copy);
   }
   return b;
@@ -115,13 +118,16 @@ DeicticOutcome run_deictic_check(const std::string& subject_name, capture::Categ
     const float size_ratio = solver.rig.height / subject.height;
     const float turn = (touching ? layout.touching_turn_deg : layout.pointing_turn_deg) * kPi / 180;
     const Pose T_b_origin = avatar_origin(solver, T_b_floor);
-    const TargetMap b = room_b(s, T_b_origin, turn, touching ? size_ratio : 1.2f);
+    const TargetMap b =
+        room_b(s, T_b_origin, turn, touching ? size_ratio : 1.2f,
+               touching ? std::numeric_limits<float>::quiet_NaN() : layout.pointing_height);
     RemoteAvatarConfig config;
     config.user = s.calibration;
     config.T_world_floor = T_b_floor;
     config.body_turn = layout.body_turn;
     RemoteAvatar avatar(mpnet, ugnet, solver, config);
     config.touch_contact = false;
+    config.pointing_settle = false;
     RemoteAvatar network_only(mpnet, ugnet, solver, config);
     LocalTargets room{&b, transform_point(T_b_floor, Vec3(0.0f, 1.6f, -2.0f))};
 
@@ -191,8 +197,8 @@ void report(const char* what, const DeicticOutcome& o) {
     }
   };
   std::printf("%s, %d completions:\n", what, o.completions);
-  line("Deixis (networks, IK, contact)", o.ours);
-  line("Deixis without touch contact", o.network_only);
+  line("Deixis (networks, IK, contact, settling)", o.ours);
+  line("Deixis without contact or pointing settling", o.network_only);
   line("  (its end-effectors before IK)", o.before_ik);
   line("copy-paste", o.copied);
 }

@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -28,8 +29,9 @@ struct DeicticErrors {
 double mean(const std::vector<double>& v);
 
 struct DeicticOutcome {
-  DeicticErrors ours, network_only, copied;  // network_only: without touch contact
-  DeicticErrors before_ik;                   // the translator's end-effectors, before IK
+  // network_only: the networks and IK alone, without touch contact or pointing settling
+  DeicticErrors ours, network_only, copied;
+  DeicticErrors before_ik;  // the translator's end-effectors, before IK
   int completions = 0;
 };
 
@@ -43,6 +45,9 @@ struct DeicticLayout {
   float pointing_turn_deg = 35.0f;  // a copy misses pointing targets by ~35°
   float touching_turn_deg = 25.0f;  // touch targets stay within reach
   bool body_turn = true;
+  // Room B's pointing targets all at this height above its floor (m), whatever their height in
+  // room A; NaN keeps each at its own. Low ones are below what the capture covers (decision 89).
+  float pointing_height = std::numeric_limits<float>::quiet_NaN();
 };
 
 // Runs `count` sequences of `category` by `subject` through the remote avatar in room B, with
