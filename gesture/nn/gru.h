@@ -8,13 +8,45 @@
 // The authors' GRUs are not stateful: every call starts from h = 0 and runs over all rows of the
 // window (docs/conventions.md#grus), so a layer has weights and no state.
 
+#include <algorithm>
+#include <cstddef>
 #include <string>
 
 #include "gesture/nn/activations.h"
 #include "gesture/nn/batch.h"
+#include "gesture/nn/lanewise_math.h"
 #include "gesture/nn/params.h"
 
 namespace deixis::nn {
+
+// The gates run in whole packets of the build's vector unit (8 floats with AVX2), and
+// padded_to_packets(n) floats hold n values with no remainder.
+using GatePacket = Eigen::internal::packet_traits<float>::type;
+inline constexpr std::size_t kGatePacketFloats =
+    static_cast<std::size_t>(Eigen::internal::packet_traits<float>::size);
+
+constexpr std::size_t padded_to_packets(std::size_t n) noexcept {
+  return (n + kGatePacketFloats - 1) / kGatePacketFloats * kGatePacketFloats;
+}
+
+// values[0, n) ← op(values), packet by packet through the functor's packetOp only (Eigen's
+// scalar_logistic_op, scalar_tanh_op): the padding up to padded_to_packets(n) is zeroed and
+// evaluated too, and `values` is aligned to EIGEN_MAX_ALIGN_BYTES, so no value takes a scalar
+// path (see GruLayer::step_batch for why that matters).
+template <typename Op>
+void apply_in_packets(float* values, std::size_t n, Op op) noexcept {
+  const std::size_t padded = padded_to_packets(n);
+  std::fill(values + n, values + padded, 0.0f);
+  // GCC warns that a vector type's attributes are dropped as a template argument; Eigen's own
+  // headers silence the same warning for their uses of it.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wignored-attributes"
+  for (std::size_t i = 0; i < padded; i += kGatePacketFloats) {
+    Eigen::internal::pstore(values + i,
+                            op.packetOp(Eigen::internal::pload<GatePacket>(values + i)));
+  }
+#pragma GCC diagnostic pop
+}
 
 template <int In, int Hidden>
 struct GruLayer {
@@ -89,18 +121,61 @@ struct GruLayer {
     }
   }
 
+  // Floats of gate working memory step_batch() needs for `count` people (gate_work below).
+  static constexpr std::size_t gate_work_floats(int count) noexcept {
+    return padded_to_packets(static_cast<std::size_t>(count) * 2 * Hidden) +
+           padded_to_packets(static_cast<std::size_t>(count) * Hidden);
+  }
+
   // One recurrence step of `count` people: row r of h (count × Hidden, rows contiguous) ←
   // GRU(h_r, x_r) given x_r's input projection at gi + r·ldgi. `gh` is working memory of
-  // count × 3·Hidden floats.
-  void step_batch(const float* gi, std::size_t ldgi, float* h, float* gh,
+  // count × 3·Hidden floats; `gate_work` of gate_work_floats(count) floats, aligned to
+  // EIGEN_MAX_ALIGN_BYTES.
+  //
+  // The gates are evaluated across the whole batch, one value per lane: everyone's r|z
+  // pre-activations side by side through one logistic, everyone's n through one tanh, over
+  // buffers padded to whole packets. Each lane's result depends on that lane's value alone (Eigen's
+  // packet logistic and tanh select every lane by its own value), and every value goes through
+  // the packet operation (apply_in_packets), never Eigen's scalar path, which rounds differently
+  // (it has no fused multiply-adds). The multiply-adds around them are
+  // explicit (lanewise::multiply_add): left to the compiler, a loop's vectorised body and its
+  // scalar remainder were not contracted alike, and a person's bits changed with the batch. So a
+  // person's state is bit for bit the same alone and in any batch (docs/decisions.md, decision
+  // 90), and the 9-wide gating layers' odd remainders cost no scalar calls.
+  void step_batch(const float* gi, std::size_t ldgi, float* h, float* gh, float* gate_work,
                   int count) const noexcept {
     multiply_rows(h, Hidden, weight_hh_by_column.storage().data(), kGates, gh, kGates, count,
                   Hidden, kGates);
-    for (int r = 0; r < count; ++r) {
-      Eigen::Map<Eigen::Matrix<float, kGates, 1>> ghr(gh + static_cast<std::size_t>(r) * kGates);
-      ghr += bias_hh.view();
-      gates(Eigen::Map<const Eigen::Matrix<float, kGates, 1>>(gi + r * ldgi), ghr,
-            Eigen::Map<State>(h + static_cast<std::size_t>(r) * Hidden));
+    const auto n = static_cast<std::size_t>(count);
+    const float* b = bias_hh.view().data();
+    float* rz = gate_work;
+    float* candidate = gate_work + padded_to_packets(n * 2 * Hidden);
+    for (std::size_t r = 0; r < n; ++r) {
+      const float* gir = gi + r * ldgi;
+      const float* ghr = gh + r * kGates;
+      float* rzr = rz + r * 2 * Hidden;
+      for (int j = 0; j < 2 * Hidden; ++j) {
+        rzr[j] = gir[j] + (ghr[j] + b[j]);
+      }
+    }
+    apply_in_packets(rz, n * 2 * Hidden, Eigen::internal::scalar_logistic_op<float>{});
+    for (std::size_t r = 0; r < n; ++r) {
+      const float* gir = gi + r * ldgi + 2 * Hidden;
+      const float* ghr = gh + r * kGates + 2 * Hidden;
+      const float* reset = rz + r * 2 * Hidden;
+      float* cr = candidate + r * Hidden;
+      for (int j = 0; j < Hidden; ++j) {
+        cr[j] = lanewise::multiply_add(reset[j], ghr[j] + b[2 * Hidden + j], gir[j]);
+      }
+    }
+    apply_in_packets(candidate, n * Hidden, Eigen::internal::scalar_tanh_op<float>{});
+    for (std::size_t r = 0; r < n; ++r) {
+      const float* update = rz + r * 2 * Hidden + Hidden;
+      const float* cr = candidate + r * Hidden;
+      float* hr = h + r * Hidden;
+      for (int j = 0; j < Hidden; ++j) {
+        hr[j] = lanewise::multiply_add(update[j], hr[j] - cr[j], cr[j]);
+      }
     }
   }
 
@@ -119,15 +194,15 @@ struct GruLayer {
 
 // One step of a 2-layer GRU for `count` people, layer 2 fed with layer 1's new state (the MoE
 // networks' gating): h0 ← layer0(h0, gi0 row r at gi0 + r·ldgi0), h1 ← layer1(h1, h0). `gi1` and
-// `gh` are working memory of count × 3·Hidden floats each.
+// `gh` are working memory of count × 3·Hidden floats each, `gate_work` GruLayer::step_batch's.
 template <int In, int Hidden>
 void step_two_layers_batch(const GruLayer<In, Hidden>& layer0,
                            const GruLayer<Hidden, Hidden>& layer1, const float* gi0,
                            std::size_t ldgi0, float* h0, float* h1, float* gi1, float* gh,
-                           int count) noexcept {
-  layer0.step_batch(gi0, ldgi0, h0, gh, count);
+                           float* gate_work, int count) noexcept {
+  layer0.step_batch(gi0, ldgi0, h0, gh, gate_work, count);
   layer1.project_inputs_batch(h0, Hidden, count, gi1);
-  layer1.step_batch(gi1, 3 * Hidden, h1, gh, count);
+  layer1.step_batch(gi1, 3 * Hidden, h1, gh, gate_work, count);
 }
 
 }  // namespace deixis::nn

@@ -20,6 +20,12 @@ void MpnetGruMoe::load(const SafetensorsFile& file) {
 
 namespace {
 
+// Floats of gate working memory the GRUs of a batch of `count` need (GruLayer::step_batch).
+constexpr std::size_t gate_work_floats(int count) {
+  return std::max(decltype(MpnetGruMoe::gating_l0)::gate_work_floats(count),
+                  decltype(MpnetGruMoe::recurrent)::gate_work_floats(count));
+}
+
 // The working memory of a batch of `count` windows, in BatchBuffers' slots (one layout for
 // run_batch and reserve_batch).
 struct MpnetBatchMemory {
@@ -36,6 +42,7 @@ struct MpnetBatchMemory {
   float* h1;            // count × 12
   float* h2;            // count × 12
   float* y;             // count × 3
+  float* gate_work;     // the GRUs' gates (GruLayer::step_batch), the wider layer's size
 
   // One window's memory, on the stack (run()).
   struct Lone {
@@ -48,6 +55,7 @@ struct MpnetBatchMemory {
     std::array<float, kExperts * MpnetGruMoe::kExpertHidden> all;
     std::array<float, MpnetGruMoe::kExpertHidden> h1, h2;
     std::array<float, kProgressionSize> y;
+    alignas(EIGEN_MAX_ALIGN_BYTES) std::array<float, gate_work_floats(1)> gate_work;
   };
 
   explicit MpnetBatchMemory(Lone& lone)
@@ -61,7 +69,8 @@ struct MpnetBatchMemory {
         all(lone.all.data()),
         h1(lone.h1.data()),
         h2(lone.h2.data()),
-        y(lone.y.data()) {}
+        y(lone.y.data()),
+        gate_work(lone.gate_work.data()) {}
 
   MpnetBatchMemory(BatchBuffers& buffers, int count) {
     const auto n = static_cast<std::size_t>(count);
@@ -77,6 +86,7 @@ struct MpnetBatchMemory {
     h1 = buffers.get(8, n * MpnetGruMoe::kExpertHidden).data();
     h2 = buffers.get(9, n * MpnetGruMoe::kExpertHidden).data();
     y = buffers.get(10, n * kProgressionSize).data();
+    gate_work = buffers.get(11, gate_work_floats(count)).data();
   }
 };
 
@@ -102,8 +112,10 @@ void run_moe(const MpnetGruMoe& net, const float* windows, int count, MpnetOutpu
   constexpr std::size_t kRecurrentStride = kWindowRows * 3 * kHidden;
   for (int t = 0; t < kWindowRows; ++t) {
     step_two_layers_batch(net.gating_l0, net.gating_l1, m.gi_gating + t * 3 * kExperts,
-                          kGatingStride, m.gating_h0, m.omega, m.gi_gating_l1, m.gh, count);
-    net.recurrent.step_batch(m.gi_recurrent + t * 3 * kHidden, kRecurrentStride, m.z, m.gh, count);
+                          kGatingStride, m.gating_h0, m.omega, m.gi_gating_l1, m.gh, m.gate_work,
+                          count);
+    net.recurrent.step_batch(m.gi_recurrent + t * 3 * kHidden, kRecurrentStride, m.z, m.gh,
+                             m.gate_work, count);
   }
   for (std::size_t r = 0; r < n; ++r) {
     Eigen::Map<Eigen::Matrix<float, kExperts, 1>> omega(m.omega + r * kExperts);

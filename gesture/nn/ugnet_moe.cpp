@@ -33,6 +33,11 @@ void UgnetMoe::load(const SafetensorsFile& file) {
 namespace deixis::nn {
 namespace {
 
+// Floats of gate working memory the GRUs of a batch of `count` need (GruLayer::step_batch).
+constexpr std::size_t gate_work_floats(int count) {
+  return decltype(UgnetMoe::gating_l0)::gate_work_floats(count);
+}
+
 // The working memory of a batch of `count` windows, in BatchBuffers' slots (one layout for
 // run_batch and reserve_batch).
 struct UgnetBatchMemory {
@@ -47,6 +52,7 @@ struct UgnetBatchMemory {
   float* all;           // count × 9·144: every expert's outputs of one layer
   float* h1;            // count × 144
   float* h2;            // count × 144
+  float* gate_work;     // the gating GRUs' gates (GruLayer::step_batch)
 
   // One window's memory, on the stack (run()).
   struct Lone {
@@ -56,6 +62,7 @@ struct UgnetBatchMemory {
     std::array<float, kConditionSize> condition;
     std::array<float, kExperts * kHidden> all;
     std::array<float, kHidden> h1, h2;
+    alignas(EIGEN_MAX_ALIGN_BYTES) std::array<float, gate_work_floats(1)> gate_work;
   };
 
   explicit UgnetBatchMemory(Lone& lone)
@@ -67,7 +74,8 @@ struct UgnetBatchMemory {
         condition(lone.condition.data()),
         all(lone.all.data()),
         h1(lone.h1.data()),
-        h2(lone.h2.data()) {}
+        h2(lone.h2.data()),
+        gate_work(lone.gate_work.data()) {}
 
   UgnetBatchMemory(BatchBuffers& buffers, int count) {
     const auto n = static_cast<std::size_t>(count);
@@ -80,6 +88,7 @@ struct UgnetBatchMemory {
     all = buffers.get(6, n * kExperts * kHidden).data();
     h1 = buffers.get(7, n * kHidden).data();
     h2 = buffers.get(8, n * kHidden).data();
+    gate_work = buffers.get(9, gate_work_floats(count)).data();
   }
 };
 
@@ -99,7 +108,8 @@ void run_moe(const UgnetMoe& net, const float* windows, int count, float* out,
   constexpr std::size_t kGatingStride = kWindowRows * 3 * kExperts;
   for (int t = 0; t < kWindowRows; ++t) {
     step_two_layers_batch(net.gating_l0, net.gating_l1, m.gi_gating + t * 3 * kExperts,
-                          kGatingStride, m.gating_h0, m.omega, m.gi_gating_l1, m.gh, count);
+                          kGatingStride, m.gating_h0, m.omega, m.gi_gating_l1, m.gh, m.gate_work,
+                          count);
   }
   for (std::size_t r = 0; r < n; ++r) {
     Eigen::Map<Eigen::Matrix<float, kExperts, 1>> omega(m.omega + r * kExperts);
