@@ -45,9 +45,10 @@ struct DeicticSample {
   DeicticError copy;    // the pose copied unchanged
   // Where an avatar's error comes from (docs/live-rooms.md, "Where the error comes from"): the
   // networks' own end-effectors before IK (H and the fingertip the translator gave IK), measured
-  // the same way; how far IK moved the fingertip off them (cm); the person's own gesture in
-  // their room against their copy of the target (their root frame); and how long the hold had
-  // lasted at its last frame (s, this site's clock).
+  // the same way; how far pointing settling, touch contact and IK together moved the fingertip
+  // off them (cm; the field keeps IK's name); the person's own gesture in their room against
+  // their copy of the target (their root frame); and how long the hold had lasted at its last
+  // frame (s, this site's clock).
   DeicticError network;
   double ik_fingertip_cm = 0.0;
   DeicticError person;

@@ -309,8 +309,9 @@ std::string live_rooms_markdown(const LiveSummary& s, const std::string& command
      << "Each pointing completion measured at each stage of the chain, the same way: the "
         "person's own gesture in their room against their copy of the target; the networks' "
         "end-effectors (H and the fingertip the translator gave IK) in this room; the avatar "
-        "after IK. IK's fingertip shift is how far IK moved the fingertip off the networks' (cm); "
-        "the hold is how long the person's hand had been still at the completion (s).\n\n"
+        "after pointing settling, touch contact and IK, as the watcher sees it. The fingertip "
+        "shift is how far those moved the fingertip off the networks' (cm); the hold is how long "
+        "the person's hand had been still at the completion (s).\n\n"
      << "| stage | HE mean | p90 | worst | VE mean | p90 | worst |\n"
         "|---|---:|---:|---:|---:|---:|---:|\n";
   const auto stage = [&](const char* name, const Distribution& he, const Distribution& ve) {
@@ -319,13 +320,13 @@ std::string live_rooms_markdown(const LiveSummary& s, const std::string& command
   };
   stage("the person, in their room", st.person_he, st.person_ve);
   stage("the networks, before IK", st.network_he, st.network_ve);
-  stage("the avatar, after IK", st.avatar_he, st.avatar_ve);
-  md << "\nIK's fingertip shift: mean " << cell(st.ik_fingertip_cm.mean) << " cm, worst "
+  stage("the avatar, after settling and IK", st.avatar_he, st.avatar_ve);
+  md << "\nFingertip shift: mean " << cell(st.ik_fingertip_cm.mean) << " cm, worst "
      << cell(st.ik_fingertip_cm.worst) << " cm. Hold at completion: median "
      << cell(st.hold_s.median) << " s.\n\n"
      << "The worst pointing completions (by the larger of HE and VE):\n\n"
      << "| pair | seen in | subject | target | distance m | elevation ° | azimuth ° | person "
-        "HE/VE | networks HE/VE | avatar HE/VE | IK shift cm | hold s |\n"
+        "HE/VE | networks HE/VE | avatar HE/VE | fingertip shift cm | hold s |\n"
         "|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const LiveCompletion* c : s.worst) {
     char row[320];

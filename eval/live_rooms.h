@@ -28,8 +28,9 @@ struct LiveCompletion {
   double copy_he = 0.0, copy_ve = 0.0, copy_cm = 0.0;
   TargetGeometry geometry;  // the target in the observer's room, from the avatar's spot
   // Where the error comes from (eval/deictic_observer.h, DeicticSample): the networks' own
-  // end-effectors before IK, how far IK moved the fingertip (cm), the person's own gesture in
-  // their room, and how long the hold had lasted (s). NaN where the site did not report them.
+  // end-effectors before IK, how far settling, contact and IK moved the fingertip (cm), the
+  // person's own gesture in their room, and how long the hold had lasted (s). NaN where the site
+  // did not report them.
   double network_he = 0.0, network_ve = 0.0, network_cm = 0.0;
   double ik_fingertip_cm = 0.0;
   double person_he = 0.0, person_ve = 0.0, person_cm = 0.0;
@@ -61,7 +62,8 @@ struct LiveGroup {
 };
 
 // The stages of the pointing chain over a group of completions: the person's own gesture, the
-// networks' end-effectors, the avatar after IK (means of HE and VE), and IK's fingertip shift.
+// networks' end-effectors, the avatar after settling and IK (means of HE and VE), and the
+// fingertip shift between the last two.
 struct LiveStages {
   Distribution person_he, person_ve, network_he, network_ve, avatar_he, avatar_ve;
   Distribution ik_fingertip_cm, hold_s;
