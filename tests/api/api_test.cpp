@@ -97,6 +97,18 @@ TEST(CApi, VersionAndAbiMatchTheHeader) {
   EXPECT_STREQ(deixis_status_name(static_cast<deixis_status>(6)), "unknown status");
 }
 
+// What a site does by default, the C config does by default: touch contact, gaze and pointing
+// settling on (pointing_settle is ABI 2's field; presence/pointing_settle.h).
+TEST(CApi, TheTranslatorConfigStartsWithContactAndSettlingOn) {
+  deixis_translator_config config;
+  std::memset(&config, 0x5a, sizeof config);
+  deixis_translator_config_init(&config);
+  EXPECT_EQ(config.touch_contact, 1);
+  EXPECT_EQ(config.gaze_settle, 1);
+  EXPECT_EQ(config.pointing_settle, 1);
+  EXPECT_EQ(DEIXIS_ABI_VERSION, 2);
+}
+
 TEST(CApi, AnotherAbiIsRefusedAtCreation) {
   deixis_error e{};
   deixis_mpnet* mpnet = reinterpret_cast<deixis_mpnet*>(&e);  // must be reset to null
