@@ -1,5 +1,6 @@
 #include "gesture/nn/batch.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <utility>
@@ -126,6 +127,54 @@ void column_block16(const float* a, std::size_t lda, const float* w, std::size_t
     kNarrower[rows - r](a + r * lda, lda, w, ldw, c + r * ldc, ldc, depth);
   }
 }
+
+// People in lanes (multiply_lanes): R ≤ 6 output rows × V ≤ 2 vectors of eight people. The
+// accumulators are an array indexed only through pack expansions, as zblock's below, so they stay
+// in registers.
+template <int R, int V, std::size_t... P, std::size_t... K>
+inline void lane_block8(const float* w, std::size_t ldw, const float* x, std::size_t ldx, float* c,
+                        std::size_t ldc, int depth, const float* bias, std::index_sequence<P...>,
+                        std::index_sequence<K...>) noexcept {
+  __m256 acc[R * V];
+  ((acc[K] = _mm256_setzero_ps()), ...);
+  for (int i = 0; i < depth; ++i) {
+    __m256 xv[V];
+    ((xv[P] = _mm256_loadu_ps(x + 8 * P)), ...);
+    x += ldx;
+    ((acc[K] = _mm256_fmadd_ps(_mm256_broadcast_ss(w + (K / V) * ldw + i), xv[K % V], acc[K])),
+     ...);
+  }
+  if (bias != nullptr) {
+    ((acc[K] = _mm256_add_ps(acc[K], _mm256_broadcast_ss(bias + K / V))), ...);
+  }
+  (_mm256_storeu_ps(c + (K / V) * ldc + 8 * (K % V), acc[K]), ...);
+}
+
+template <int R>
+void lane_block8(const float* w, std::size_t ldw, const float* x, std::size_t ldx, float* c,
+                 std::size_t ldc, int depth, const float* bias) noexcept {
+  lane_block8<R, 2>(w, ldw, x, ldx, c, ldc, depth, bias, std::make_index_sequence<2>{},
+                    std::make_index_sequence<static_cast<std::size_t>(R * 2)>{});
+}
+
+void multiply_lanes_avx2(const float* w, std::size_t ldw, const float* x, std::size_t ldx, float* c,
+                         std::size_t ldc, int rows, int depth, int lanes,
+                         const float* bias) noexcept {
+  using Block = void (*)(const float*, std::size_t, const float*, std::size_t, float*, std::size_t,
+                         int, const float*) noexcept;
+  static constexpr Block kNarrower[6] = {nullptr,        lane_block8<1>, lane_block8<2>,
+                                         lane_block8<3>, lane_block8<4>, lane_block8<5>};
+  const auto row_bias = [bias](int j) { return bias == nullptr ? nullptr : bias + j; };
+  for (int p = 0; p < lanes; p += 16) {
+    int j = 0;
+    for (; j + 6 <= rows; j += 6) {
+      lane_block8<6>(w + j * ldw, ldw, x + p, ldx, c + j * ldc + p, ldc, depth, row_bias(j));
+    }
+    if (j < rows) {
+      kNarrower[rows - j](w + j * ldw, ldw, x + p, ldx, c + j * ldc + p, ldc, depth, row_bias(j));
+    }
+  }
+}
 #endif
 
 #if DEIXIS_AVX512_KERNEL
@@ -212,6 +261,82 @@ DEIXIS_AVX512_TARGET void multiply_rows_avx512(const float* a, std::size_t lda, 
     column_zblock<1>(a, lda, w + j, ldw, c + j, ldc, rows, depth, last);
   }
 }
+
+// People in lanes (multiply_lanes): R ≤ 6 output rows × V ≤ 4 vectors of sixteen people, up to 24
+// accumulators.
+template <int R, int V, std::size_t... P, std::size_t... K>
+DEIXIS_AVX512_TARGET inline void lane_block16(const float* w, std::size_t ldw, const float* x,
+                                              std::size_t ldx, float* c, std::size_t ldc, int depth,
+                                              const float* bias, std::index_sequence<P...>,
+                                              std::index_sequence<K...>) noexcept {
+  __m512 acc[R * V];
+  ((acc[K] = _mm512_setzero_ps()), ...);
+  for (int i = 0; i < depth; ++i) {
+    __m512 xv[V];
+    ((xv[P] = _mm512_loadu_ps(x + 16 * P)), ...);
+    x += ldx;
+    ((acc[K] = _mm512_fmadd_ps(_mm512_set1_ps(w[(K / V) * ldw + i]), xv[K % V], acc[K])), ...);
+  }
+  if (bias != nullptr) {
+    ((acc[K] = _mm512_add_ps(acc[K], _mm512_set1_ps(bias[K / V]))), ...);
+  }
+  (_mm512_storeu_ps(c + (K / V) * ldc + 16 * (K % V), acc[K]), ...);
+}
+
+template <int R, int V>
+DEIXIS_AVX512_TARGET void lane_block16(const float* w, std::size_t ldw, const float* x,
+                                       std::size_t ldx, float* c, std::size_t ldc, int depth,
+                                       const float* bias) noexcept {
+  lane_block16<R, V>(w, ldw, x, ldx, c, ldc, depth, bias, std::make_index_sequence<V>{},
+                     std::make_index_sequence<static_cast<std::size_t>(R * V)>{});
+}
+
+// Every output row, six at a time, for V vectors of people starting at lane 0.
+template <int V>
+DEIXIS_AVX512_TARGET void lane_rows16(const float* w, std::size_t ldw, const float* x,
+                                      std::size_t ldx, float* c, std::size_t ldc, int rows,
+                                      int depth, const float* bias) noexcept {
+  using Block = void (*)(const float*, std::size_t, const float*, std::size_t, float*, std::size_t,
+                         int, const float*) noexcept;
+  static constexpr Block kNarrower[6] = {nullptr,
+                                         lane_block16<1, V>,
+                                         lane_block16<2, V>,
+                                         lane_block16<3, V>,
+                                         lane_block16<4, V>,
+                                         lane_block16<5, V>};
+  const auto row_bias = [bias](int j) { return bias == nullptr ? nullptr : bias + j; };
+  int j = 0;
+  for (; j + 6 <= rows; j += 6) {
+    lane_block16<6, V>(w + j * ldw, ldw, x, ldx, c + j * ldc, ldc, depth, row_bias(j));
+  }
+  if (j < rows) {
+    kNarrower[rows - j](w + j * ldw, ldw, x, ldx, c + j * ldc, ldc, depth, row_bias(j));
+  }
+}
+
+// Lanes 64 at a time, then the last 16, 32 or 48.
+DEIXIS_AVX512_TARGET void multiply_lanes_avx512(const float* w, std::size_t ldw, const float* x,
+                                                std::size_t ldx, float* c, std::size_t ldc,
+                                                int rows, int depth, int lanes,
+                                                const float* bias) noexcept {
+  int p = 0;
+  for (; p + 64 <= lanes; p += 64) {
+    lane_rows16<4>(w, ldw, x + p, ldx, c + p, ldc, rows, depth, bias);
+  }
+  switch ((lanes - p) / 16) {
+    case 3:
+      lane_rows16<3>(w, ldw, x + p, ldx, c + p, ldc, rows, depth, bias);
+      break;
+    case 2:
+      lane_rows16<2>(w, ldw, x + p, ldx, c + p, ldc, rows, depth, bias);
+      break;
+    case 1:
+      lane_rows16<1>(w, ldw, x + p, ldx, c + p, ldc, rows, depth, bias);
+      break;
+    default:
+      break;
+  }
+}
 #endif
 
 // Columns [from, to) one value at a time (narrow remainders, and builds without AVX2).
@@ -265,6 +390,47 @@ void multiply(ProductKernel kernel, const float* a, std::size_t lda, const float
   scalar_columns(a, lda, w, ldw, c, ldc, rows, depth, j, cols);
 }
 
+#if !(defined(__AVX2__) && defined(__FMA__))
+// People in lanes one value at a time (builds without AVX2): the same chains as scalar_columns.
+void scalar_lanes(const float* w, std::size_t ldw, const float* x, std::size_t ldx, float* c,
+                  std::size_t ldc, int rows, int depth, int lanes, const float* bias) noexcept {
+  for (int j = 0; j < rows; ++j) {
+    const float* wj = w + static_cast<std::size_t>(j) * ldw;
+    float* cj = c + static_cast<std::size_t>(j) * ldc;
+    for (int p = 0; p < lanes; ++p) {
+      float sum = 0.0f;
+      for (int i = 0; i < depth; ++i) {
+#if defined(__FMA__)
+        sum = std::fma(x[static_cast<std::size_t>(i) * ldx + p], wj[i], sum);
+#else
+        sum += x[static_cast<std::size_t>(i) * ldx + p] * wj[i];
+#endif
+      }
+      cj[p] = bias == nullptr ? sum : sum + bias[j];
+    }
+  }
+}
+#endif
+
+// `kernel` is available here (the callers below make sure).
+void multiply_in_lanes(ProductKernel kernel, const float* w, std::size_t ldw, const float* x,
+                       std::size_t ldx, float* c, std::size_t ldc, int rows, int depth, int lanes,
+                       const float* bias) noexcept {
+#if DEIXIS_AVX512_KERNEL
+  if (kernel == ProductKernel::kAvx512) {
+    multiply_lanes_avx512(w, ldw, x, ldx, c, ldc, rows, depth, lanes, bias);
+    return;
+  }
+#else
+  (void)kernel;
+#endif
+#if defined(__AVX2__) && defined(__FMA__)
+  multiply_lanes_avx2(w, ldw, x, ldx, c, ldc, rows, depth, lanes, bias);
+#else
+  scalar_lanes(w, ldw, x, ldx, c, ldc, rows, depth, lanes, bias);
+#endif
+}
+
 }  // namespace
 
 bool product_kernel_available(ProductKernel kernel) noexcept {
@@ -298,6 +464,41 @@ void multiply_rows(ProductKernel kernel, const float* a, std::size_t lda, const 
   // not).
   multiply(product_kernel_available(kernel) ? kernel : ProductKernel::kBuild, a, lda, w, ldw, c,
            ldc, rows, depth, cols);
+}
+
+void multiply_lanes(const float* w, std::size_t ldw, const float* x, std::size_t ldx, float* c,
+                    std::size_t ldc, int rows, int depth, int lanes, const float* bias) noexcept {
+  multiply_in_lanes(best_product_kernel(), w, ldw, x, ldx, c, ldc, rows, depth, lanes, bias);
+}
+
+void multiply_lanes(ProductKernel kernel, const float* w, std::size_t ldw, const float* x,
+                    std::size_t ldx, float* c, std::size_t ldc, int rows, int depth, int lanes,
+                    const float* bias) noexcept {
+  multiply_in_lanes(product_kernel_available(kernel) ? kernel : ProductKernel::kBuild, w, ldw, x,
+                    ldx, c, ldc, rows, depth, lanes, bias);
+}
+
+void window_row_to_lanes(const float* windows, std::size_t window_size, std::size_t row,
+                         int columns, int count, int lanes, float* x) noexcept {
+  const auto ld = static_cast<std::size_t>(lanes);
+  for (int p = 0; p < count; ++p) {
+    const float* in = windows + static_cast<std::size_t>(p) * window_size + row;
+    for (int c = 0; c < columns; ++c) {
+      x[static_cast<std::size_t>(c) * ld + static_cast<std::size_t>(p)] = in[c];
+    }
+  }
+  for (int c = 0; c < columns; ++c) {
+    std::fill(x + static_cast<std::size_t>(c) * ld + static_cast<std::size_t>(count),
+              x + static_cast<std::size_t>(c + 1) * ld, 0.0f);
+  }
+}
+
+void lanes_to_rows(const float* v, int size, int count, int lanes, float* out) noexcept {
+  for (int r = 0; r < count; ++r) {
+    for (int j = 0; j < size; ++j) {
+      out[static_cast<std::size_t>(r) * size + j] = v[static_cast<std::size_t>(j) * lanes + r];
+    }
+  }
 }
 
 }  // namespace deixis::nn

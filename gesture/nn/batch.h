@@ -21,7 +21,7 @@ namespace deixis::nn {
 // allocate nothing. One BatchBuffers serves one thread.
 class BatchBuffers {
  public:
-  static constexpr int kSlots = 12;
+  static constexpr int kSlots = 24;
 
   // Buffer `slot` with room for at least `count` floats (contents unspecified). Allocates only
   // when `count` exceeds the largest size asked of that slot so far.
@@ -61,5 +61,46 @@ ProductKernel best_product_kernel() noexcept;  // kAvx512 where available
 void multiply_rows(ProductKernel kernel, const float* a, std::size_t lda, const float* w,
                    std::size_t ldw, float* c, std::size_t ldc, int rows, int depth,
                    int cols) noexcept;
+
+// People in lanes: the layout of the GRUs' batches (gru.h, step_lanes), where value j of person
+// p sits at v + j·ld + p, so that one vector holds the same value of sixteen people. A batch of
+// `count` people takes lanes_for(count) lanes (whole groups of kLaneGroup; the lanes past
+// `count` hold zeros and are never read back).
+inline constexpr int kLaneGroup = 16;
+constexpr int lanes_for(int count) noexcept {
+  return (count + kLaneGroup - 1) / kLaneGroup * kLaneGroup;
+}
+// Batches of at least this many people run their GRUs in lanes; smaller ones as rows, where
+// padding to a whole group would cost more than it saves (docs/scaling.md).
+inline constexpr int kLanesFromPeople = 8;
+
+// c = w·x (+ bias) with people in lanes: w is rows × depth (row j at w + j·ldw, e.g. a GRU's
+// weights as PyTorch stores them), x is depth × lanes (row i at x + i·ldx), c is rows × lanes
+// (row j at c + j·ldc); `lanes` is a multiple of kLaneGroup. Every result is the same chain of
+// multiply-adds over i in order as multiply_rows computes for that person's row (a fused
+// multiply-add does not care which factor is which), so the bits are the same in either layout,
+// alone or in any batch, with either kernel. With `bias` (one value per row of c), bias[j] is
+// added to the finished chain, one addition, as a caller adding it afterwards would.
+//
+// Why: the GRUs' products are narrow (27 or 72 outputs, depth 9 to 24), and with people as rows
+// multiply_rows spends as much time on its blocks' set-up and masked remainders as on the
+// arithmetic; with people in lanes every vector is full and the gates that follow are
+// elementwise over whole rows (docs/decisions.md, decision 92).
+void multiply_lanes(const float* w, std::size_t ldw, const float* x, std::size_t ldx, float* c,
+                    std::size_t ldc, int rows, int depth, int lanes,
+                    const float* bias = nullptr) noexcept;
+void multiply_lanes(ProductKernel kernel, const float* w, std::size_t ldw, const float* x,
+                    std::size_t ldx, float* c, std::size_t ldc, int rows, int depth, int lanes,
+                    const float* bias = nullptr) noexcept;
+
+// Row `row` of every window (window p's values from windows + p·window_size + row on, `columns`
+// of them) in lanes: value c of person p at x + c·lanes + p, the lanes past `count` zero. One
+// step's inputs of a GRU over `count` windows, ready for project_inputs_lanes.
+void window_row_to_lanes(const float* windows, std::size_t window_size, std::size_t row,
+                         int columns, int count, int lanes, float* x) noexcept;
+
+// The opposite way for one vector per person: v (size × lanes, row j at v + j·lanes) → out
+// (count × size, person r's values at out + r·size).
+void lanes_to_rows(const float* v, int size, int count, int lanes, float* out) noexcept;
 
 }  // namespace deixis::nn

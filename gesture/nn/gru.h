@@ -179,6 +179,44 @@ struct GruLayer {
     }
   }
 
+  // Batches with people in lanes (batch.h, multiply_lanes): value j of person p at v + j·ld + p,
+  // `lanes` a multiple of kLaneGroup. The same operations on every value as step_batch's, so a
+  // person's bits are the same in either layout (decision 92).
+  //
+  // gi (3·Hidden × lanes, row j at gi + j·ldgi) = W_ih·x + b_ih for x (In × lanes, row i at
+  // x + i·ldx).
+  void project_inputs_lanes(const float* x, std::size_t ldx, int lanes, float* gi,
+                            std::size_t ldgi) const noexcept {
+    multiply_lanes(weight_ih.storage().data(), In, x, ldx, gi, ldgi, kGates, In, lanes,
+                   bias_ih.storage().data());
+  }
+
+  // One recurrence step of everyone in lanes: h (Hidden × lanes, rows contiguous) ← GRU(h, x)
+  // given x's input projection gi (3·Hidden × lanes, rows contiguous). `gh` is working memory of
+  // 3·Hidden × lanes floats aligned to EIGEN_MAX_ALIGN_BYTES: W_hh·h + b_hh, then the gates in
+  // place, whole rows of people at a time.
+  void step_lanes(const float* gi, float* h, float* gh, int lanes) const noexcept {
+    const auto ld = static_cast<std::size_t>(lanes);
+    multiply_lanes(weight_hh.storage().data(), Hidden, h, ld, gh, ld, kGates, Hidden, lanes,
+                   bias_hh.storage().data());
+    const std::size_t rz_size = 2 * Hidden * ld;
+    float* rz = gh;
+    for (std::size_t k = 0; k < rz_size; ++k) {
+      rz[k] = gi[k] + rz[k];
+    }
+    apply_in_packets(rz, rz_size, Eigen::internal::scalar_logistic_op<float>{});
+    float* candidate = gh + rz_size;
+    const float* gi_candidate = gi + rz_size;
+    for (std::size_t k = 0; k < Hidden * ld; ++k) {
+      candidate[k] = lanewise::multiply_add(rz[k], candidate[k], gi_candidate[k]);
+    }
+    apply_in_packets(candidate, Hidden * ld, Eigen::internal::scalar_tanh_op<float>{});
+    const float* update = rz + Hidden * ld;
+    for (std::size_t k = 0; k < Hidden * ld; ++k) {
+      h[k] = lanewise::multiply_add(update[k], h[k] - candidate[k], candidate[k]);
+    }
+  }
+
   // Runs over the rows of `inputs` (Steps × In) from h = 0 and writes every step's hidden state
   // to `outputs` (Steps × Hidden); the last row is the layer's final output.
   template <int Steps, typename InputMatrix, typename OutputMatrix>
@@ -203,6 +241,19 @@ void step_two_layers_batch(const GruLayer<In, Hidden>& layer0,
   layer0.step_batch(gi0, ldgi0, h0, gh, gate_work, count);
   layer1.project_inputs_batch(h0, Hidden, count, gi1);
   layer1.step_batch(gi1, 3 * Hidden, h1, gh, gate_work, count);
+}
+
+// step_two_layers_batch with people in lanes (GruLayer::step_lanes): h0 ← layer0(h0, gi0),
+// h1 ← layer1(h1, h0), every array `lanes` wide. `gi1` and `gh` are working memory of
+// 3·Hidden × lanes floats each.
+template <int In, int Hidden>
+void step_two_layers_lanes(const GruLayer<In, Hidden>& layer0,
+                           const GruLayer<Hidden, Hidden>& layer1, const float* gi0, float* h0,
+                           float* h1, float* gi1, float* gh, int lanes) noexcept {
+  const auto ld = static_cast<std::size_t>(lanes);
+  layer0.step_lanes(gi0, h0, gh, lanes);
+  layer1.project_inputs_lanes(h0, ld, lanes, gi1, ld);
+  layer1.step_lanes(gi1, h1, gh, lanes);
 }
 
 }  // namespace deixis::nn

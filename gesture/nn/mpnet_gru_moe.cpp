@@ -27,7 +27,8 @@ constexpr std::size_t gate_work_floats(int count) {
 }
 
 // The working memory of a batch of `count` windows, in BatchBuffers' slots (one layout for
-// run_batch and reserve_batch).
+// run_batch and reserve_batch). Batches of kLanesFromPeople or more run the GRUs with people in
+// lanes (decision 92) and use the `lanes` buffers; smaller ones the rows' projections.
 struct MpnetBatchMemory {
   static constexpr int kExperts = MpnetGruMoe::kExperts;
   static constexpr int kHidden = MpnetGruMoe::kRecurrentHidden;
@@ -43,6 +44,19 @@ struct MpnetBatchMemory {
   float* h2;            // count × 12
   float* y;             // count × 3
   float* gate_work;     // the GRUs' gates (GruLayer::step_batch), the wider layer's size
+
+  // People in lanes, every array lanes_for(count) wide (GruLayer::step_lanes).
+  struct Lanes {
+    int width = 0;
+    float* x = nullptr;             // 11 × width: the step's inputs
+    float* gi_gating = nullptr;     // 27 × width: the step's input projections
+    float* gi_recurrent = nullptr;  // 72 × width
+    float* gi_gating_l1 = nullptr;  // 27 × width
+    float* gh = nullptr;            // 72 × width
+    float* gating_h0 = nullptr;     // 9 × width
+    float* omega = nullptr;         // 9 × width
+    float* z = nullptr;             // 24 × width
+  } lanes;
 
   // One window's memory, on the stack (run()).
   struct Lone {
@@ -74,7 +88,8 @@ struct MpnetBatchMemory {
 
   MpnetBatchMemory(BatchBuffers& buffers, int count) {
     const auto n = static_cast<std::size_t>(count);
-    const auto rows = n * kWindowRows;
+    const bool in_lanes = count >= kLanesFromPeople;
+    const auto rows = in_lanes ? 0 : n * kWindowRows;
     gi_gating = buffers.get(0, rows * 3 * kExperts).data();
     gi_recurrent = buffers.get(1, rows * 3 * kHidden).data();
     gi_gating_l1 = buffers.get(2, n * 3 * kExperts).data();
@@ -86,15 +101,26 @@ struct MpnetBatchMemory {
     h1 = buffers.get(8, n * MpnetGruMoe::kExpertHidden).data();
     h2 = buffers.get(9, n * MpnetGruMoe::kExpertHidden).data();
     y = buffers.get(10, n * kProgressionSize).data();
-    gate_work = buffers.get(11, gate_work_floats(count)).data();
+    gate_work = buffers.get(11, in_lanes ? 0 : gate_work_floats(count)).data();
+    if (in_lanes) {
+      lanes.width = lanes_for(count);
+      const auto width = static_cast<std::size_t>(lanes.width);
+      lanes.x = buffers.get(12, kMpnetFeatures * width).data();
+      lanes.gi_gating = buffers.get(13, 3 * kExperts * width).data();
+      lanes.gi_recurrent = buffers.get(14, 3 * kHidden * width).data();
+      lanes.gi_gating_l1 = buffers.get(15, 3 * kExperts * width).data();
+      lanes.gh = buffers.get(16, 3 * kHidden * width).data();
+      lanes.gating_h0 = buffers.get(17, kExperts * width).data();
+      lanes.omega = buffers.get(18, kExperts * width).data();
+      lanes.z = buffers.get(19, kHidden * width).data();
+    }
   }
 };
 
-// The whole network on `count` windows in `m`. The same code runs one window (run()) and a batch
-// (run_batch()), and nn/batch.h's products give a row the same bits in either, so a person's
-// progression does not depend on who else is in the batch.
-void run_moe(const MpnetGruMoe& net, const float* windows, int count, MpnetOutput* out,
-             const MpnetBatchMemory& m) {
+// The three GRUs over `count` windows with people as rows: m.omega (count × 9) ← the gating
+// network's last state, m.z (count × 24) ← the recurrent module's.
+void run_grus_by_rows(const MpnetGruMoe& net, const float* windows, int count,
+                      const MpnetBatchMemory& m) {
   constexpr int kExperts = MpnetGruMoe::kExperts;
   constexpr int kHidden = MpnetGruMoe::kRecurrentHidden;
   const auto n = static_cast<std::size_t>(count);
@@ -116,6 +142,47 @@ void run_moe(const MpnetGruMoe& net, const float* windows, int count, MpnetOutpu
                           count);
     net.recurrent.step_batch(m.gi_recurrent + t * 3 * kHidden, kRecurrentStride, m.z, m.gh,
                              m.gate_work, count);
+  }
+}
+
+// The same with people in lanes (decision 92): each step's inputs gathered into lanes and
+// projected, the step taken on whole rows of people (everything a step touches stays in the L1
+// cache), the last states turned back into rows.
+void run_grus_in_lanes(const MpnetGruMoe& net, const float* windows, int count,
+                       const MpnetBatchMemory& m) {
+  constexpr int kExperts = MpnetGruMoe::kExperts;
+  constexpr int kHidden = MpnetGruMoe::kRecurrentHidden;
+  const MpnetBatchMemory::Lanes& l = m.lanes;
+  const auto width = static_cast<std::size_t>(l.width);
+  std::fill_n(l.gating_h0, kExperts * width, 0.0f);
+  std::fill_n(l.omega, kExperts * width, 0.0f);
+  std::fill_n(l.z, kHidden * width, 0.0f);
+  for (int t = 0; t < kWindowRows; ++t) {
+    window_row_to_lanes(windows, kMpnetWindowSize, static_cast<std::size_t>(t) * kMpnetFeatures,
+                        kMpnetFeatures, count, l.width, l.x);
+    net.gating_l0.project_inputs_lanes(l.x + kMpnetTargetColumn * width, width, l.width,
+                                       l.gi_gating, width);
+    net.recurrent.project_inputs_lanes(l.x, width, l.width, l.gi_recurrent, width);
+    step_two_layers_lanes(net.gating_l0, net.gating_l1, l.gi_gating, l.gating_h0, l.omega,
+                          l.gi_gating_l1, l.gh, l.width);
+    net.recurrent.step_lanes(l.gi_recurrent, l.z, l.gh, l.width);
+  }
+  lanes_to_rows(l.omega, kExperts, count, l.width, m.omega);
+  lanes_to_rows(l.z, kHidden, count, l.width, m.z);
+}
+
+// The whole network on `count` windows in `m`. The same code runs one window (run()) and a batch
+// (run_batch()), and nn/batch.h's products give a row the same bits in either layout, so a
+// person's progression does not depend on who else is in the batch.
+void run_moe(const MpnetGruMoe& net, const float* windows, int count, MpnetOutput* out,
+             const MpnetBatchMemory& m) {
+  constexpr int kExperts = MpnetGruMoe::kExperts;
+  constexpr int kHidden = MpnetGruMoe::kRecurrentHidden;
+  const auto n = static_cast<std::size_t>(count);
+  if (m.lanes.width > 0) {
+    run_grus_in_lanes(net, windows, count, m);
+  } else {
+    run_grus_by_rows(net, windows, count, m);
   }
   for (std::size_t r = 0; r < n; ++r) {
     Eigen::Map<Eigen::Matrix<float, kExperts, 1>> omega(m.omega + r * kExperts);
@@ -144,6 +211,8 @@ MpnetOutput MpnetGruMoe::run(MpnetWindow window, MpnetTrace* trace) const {
 }
 
 void MpnetGruMoe::reserve_batch(int count, BatchBuffers& buffers) {
+  // Both layouts: smaller batches later run as rows.
+  const MpnetBatchMemory by_rows(buffers, std::min(count, kLanesFromPeople - 1));
   const MpnetBatchMemory sized(buffers, count);
 }
 

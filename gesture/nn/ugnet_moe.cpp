@@ -39,7 +39,8 @@ constexpr std::size_t gate_work_floats(int count) {
 }
 
 // The working memory of a batch of `count` windows, in BatchBuffers' slots (one layout for
-// run_batch and reserve_batch).
+// run_batch and reserve_batch). Batches of kLanesFromPeople or more run the gating GRUs with
+// people in lanes (decision 92) and use the `lanes` buffers; smaller ones the rows' projections.
 struct UgnetBatchMemory {
   static constexpr int kExperts = UgnetMoe::kExperts;
   static constexpr int kHidden = UgnetMoe::kHidden;
@@ -53,6 +54,17 @@ struct UgnetBatchMemory {
   float* h1;            // count × 144
   float* h2;            // count × 144
   float* gate_work;     // the gating GRUs' gates (GruLayer::step_batch)
+
+  // People in lanes, every array lanes_for(count) wide (GruLayer::step_lanes).
+  struct Lanes {
+    int width = 0;
+    float* x = nullptr;             // 8 × width: the step's conditioning columns
+    float* gi_gating = nullptr;     // 27 × width: their projections
+    float* gi_gating_l1 = nullptr;  // 27 × width
+    float* gh = nullptr;            // 27 × width
+    float* gating_h0 = nullptr;     // 9 × width
+    float* omega = nullptr;         // 9 × width
+  } lanes;
 
   // One window's memory, on the stack (run()).
   struct Lone {
@@ -79,7 +91,8 @@ struct UgnetBatchMemory {
 
   UgnetBatchMemory(BatchBuffers& buffers, int count) {
     const auto n = static_cast<std::size_t>(count);
-    gi_gating = buffers.get(0, n * kWindowRows * 3 * kExperts).data();
+    const bool in_lanes = count >= kLanesFromPeople;
+    gi_gating = buffers.get(0, (in_lanes ? 0 : n) * kWindowRows * 3 * kExperts).data();
     gi_gating_l1 = buffers.get(1, n * 3 * kExperts).data();
     gh = buffers.get(2, n * 3 * kExperts).data();
     gating_h0 = buffers.get(3, n * kExperts).data();
@@ -88,19 +101,27 @@ struct UgnetBatchMemory {
     all = buffers.get(6, n * kExperts * kHidden).data();
     h1 = buffers.get(7, n * kHidden).data();
     h2 = buffers.get(8, n * kHidden).data();
-    gate_work = buffers.get(9, gate_work_floats(count)).data();
+    gate_work = buffers.get(9, in_lanes ? 0 : gate_work_floats(count)).data();
+    if (in_lanes) {
+      lanes.width = lanes_for(count);
+      const auto width = static_cast<std::size_t>(lanes.width);
+      lanes.x = buffers.get(12, kConditionColumns * width).data();
+      lanes.gi_gating = buffers.get(13, 3 * kExperts * width).data();
+      lanes.gi_gating_l1 = buffers.get(15, 3 * kExperts * width).data();
+      lanes.gh = buffers.get(16, 3 * kExperts * width).data();
+      lanes.gating_h0 = buffers.get(17, kExperts * width).data();
+      lanes.omega = buffers.get(18, kExperts * width).data();
+    }
   }
 };
 
-// The whole network on `count` windows in `m`. The same code runs one window (run()) and a batch
-// (run_batch()), and nn/batch.h's products give a row the same bits in either, so a person's
-// prediction does not depend on who else is in the batch. `reverse`: panel_order.h.
-void run_moe(const UgnetMoe& net, const float* windows, int count, float* out,
-             const UgnetBatchMemory& m, bool reverse) {
+// The gating network over `count` windows' conditioning columns with people as rows: m.omega
+// (count × 9) ← its last state. Rows of consecutive windows are consecutive, so all are
+// projected at once, then everyone's GRUs step together.
+void run_gating_by_rows(const UgnetMoe& net, const float* windows, int count,
+                        const UgnetBatchMemory& m) {
   constexpr int kExperts = UgnetMoe::kExperts;
   const auto n = static_cast<std::size_t>(count);
-  // The gating network over every window's conditioning columns: rows of consecutive windows are
-  // consecutive, so all are projected at once, then everyone's GRUs step together.
   net.gating_l0.project_inputs_batch(windows + kPoseSize, kUgnetColumns, count * kWindowRows,
                                      m.gi_gating);
   std::fill_n(m.gating_h0, n * kExperts, 0.0f);
@@ -110,6 +131,39 @@ void run_moe(const UgnetMoe& net, const float* windows, int count, float* out,
     step_two_layers_batch(net.gating_l0, net.gating_l1, m.gi_gating + t * 3 * kExperts,
                           kGatingStride, m.gating_h0, m.omega, m.gi_gating_l1, m.gh, m.gate_work,
                           count);
+  }
+}
+
+// The same with people in lanes (decision 92).
+void run_gating_in_lanes(const UgnetMoe& net, const float* windows, int count,
+                         const UgnetBatchMemory& m) {
+  constexpr int kExperts = UgnetMoe::kExperts;
+  const UgnetBatchMemory::Lanes& l = m.lanes;
+  const auto width = static_cast<std::size_t>(l.width);
+  std::fill_n(l.gating_h0, kExperts * width, 0.0f);
+  std::fill_n(l.omega, kExperts * width, 0.0f);
+  for (int t = 0; t < kWindowRows; ++t) {
+    window_row_to_lanes(windows, kUgnetWindowSize,
+                        static_cast<std::size_t>(t) * kUgnetColumns + kPoseSize, kConditionColumns,
+                        count, l.width, l.x);
+    net.gating_l0.project_inputs_lanes(l.x, width, l.width, l.gi_gating, width);
+    step_two_layers_lanes(net.gating_l0, net.gating_l1, l.gi_gating, l.gating_h0, l.omega,
+                          l.gi_gating_l1, l.gh, l.width);
+  }
+  lanes_to_rows(l.omega, kExperts, count, l.width, m.omega);
+}
+
+// The whole network on `count` windows in `m`. The same code runs one window (run()) and a batch
+// (run_batch()), and nn/batch.h's products give a row the same bits in either, so a person's
+// prediction does not depend on who else is in the batch. `reverse`: panel_order.h.
+void run_moe(const UgnetMoe& net, const float* windows, int count, float* out,
+             const UgnetBatchMemory& m, bool reverse) {
+  constexpr int kExperts = UgnetMoe::kExperts;
+  const auto n = static_cast<std::size_t>(count);
+  if (m.lanes.width > 0) {
+    run_gating_in_lanes(net, windows, count, m);
+  } else {
+    run_gating_by_rows(net, windows, count, m);
   }
   for (std::size_t r = 0; r < n; ++r) {
     Eigen::Map<Eigen::Matrix<float, kExperts, 1>> omega(m.omega + r * kExperts);
@@ -136,6 +190,8 @@ PoseVector UgnetMoe::run(UgnetWindow window, UgnetTrace* trace) const {
 }
 
 void UgnetMoe::reserve_batch(int count, BatchBuffers& buffers) {
+  // Both layouts: smaller batches later run as rows.
+  const UgnetBatchMemory by_rows(buffers, std::min(count, kLanesFromPeople - 1));
   const UgnetBatchMemory sized(buffers, count);
 }
 

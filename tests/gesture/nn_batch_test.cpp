@@ -1,5 +1,5 @@
 // The networks' batch path (nn/batch.h) against one window at a time: for every person of a batch
-// of 1, 3 and 64, run_batch() gives what run() gives on that person's window, on the authors'
+// of 1, 3, 17 and 64, run_batch() gives what run() gives on that person's window, on the authors'
 // checkpoints (../shared/reference) and the shipped weights (assets/weights), on the fixtures'
 // real windows and on random ones. The requirement is 1e-5; run() and run_batch() share their
 // code and nn/batch.h's products give a row the same bits alone or in a batch, so the MoE
@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/io/safetensors.h"
+#include "gesture/nn/gru.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
 #include "test_support.h"
@@ -25,7 +26,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::size_t kBatchSizes[] = {1, 3, 64};
+// 3 runs the GRUs with people as rows, 17 and 64 with people in lanes (17 in two groups of
+// sixteen, fifteen lanes of padding; nn/batch.h, kLanesFromPeople).
+constexpr std::size_t kBatchSizes[] = {1, 3, 17, 64};
 
 fs::path authors(const std::string& hand) {
   return testing::reference_dir() / "weights" / hand;
@@ -189,18 +192,33 @@ TEST_P(MoeBatches, UgnetBatchEqualsOneByOne) {
 
 INSTANTIATE_TEST_SUITE_P(Hands, MoeBatches, ::testing::Values("right", "left"));
 
-// A batch after a larger one reuses the buffers without stale values leaking in.
+// A batch after a larger one reuses the buffers without stale values leaking in, whether it
+// runs as rows (2) or in fewer lanes (9).
 TEST(MoeBatch, SmallerBatchAfterLargerIsUnaffected) {
   const Ugnet ugnet = Ugnet::load(authors("right") / "UGNet(MoE)(AC)120.safetensors");
+  const Mpnet mpnet = Mpnet::load(authors("right") / "MPNet(MoE)(AC)80.safetensors");
   const std::vector<float> pool = fixture_windows("UGNet_MoE_right");
-  BatchBuffers buffers;
-  std::vector<float> big(64 * kPoseSize), small(2 * kPoseSize), fresh(2 * kPoseSize);
-  ugnet.run_batch(take(pool, kUgnetWindowSize, 64, 5), {}, big, buffers);
-  const std::vector<float> two = take(pool, kUgnetWindowSize, 2, 40);
-  ugnet.run_batch(two, {}, small, buffers);
-  BatchBuffers other;
-  ugnet.run_batch(two, {}, fresh, other);
-  EXPECT_EQ(small, fresh);
+  const std::vector<float> mpnet_pool = fixture_windows("MPNet_MoE_right");
+  for (const std::size_t count : {std::size_t{2}, std::size_t{9}}) {
+    BatchBuffers buffers;
+    std::vector<float> big(64 * kPoseSize), small(count * kPoseSize), fresh(count * kPoseSize);
+    ugnet.run_batch(take(pool, kUgnetWindowSize, 64, 5), {}, big, buffers);
+    const std::vector<float> few = take(pool, kUgnetWindowSize, count, 40);
+    ugnet.run_batch(few, {}, small, buffers);
+    BatchBuffers other;
+    ugnet.run_batch(few, {}, fresh, other);
+    EXPECT_EQ(small, fresh) << count;
+
+    std::vector<MpnetOutput> many(64), after(count), first(count);
+    mpnet.run_batch(take(mpnet_pool, kMpnetWindowSize, 64, 5), many, buffers);
+    const std::vector<float> few_windows = take(mpnet_pool, kMpnetWindowSize, count, 40);
+    mpnet.run_batch(few_windows, after, buffers);
+    BatchBuffers clean;
+    mpnet.run_batch(few_windows, first, clean);
+    for (std::size_t i = 0; i < count; ++i) {
+      EXPECT_EQ(after[i].preclamp, first[i].preclamp) << count << " windows, window " << i;
+    }
+  }
 }
 
 TEST(OtherArchitectures, GoWindowByWindowThroughTheBatchApi) {
@@ -253,6 +271,140 @@ TEST(Products, Avx512KernelsGiveTheBuildKernelsBits) {
       EXPECT_NE(build[0], -1.0f);
     }
   }
+}
+
+// People in lanes (multiply_lanes) give the bits of people as rows (multiply_rows), with either
+// kernel, with and without the bias added at the end: every shape the GRUs use (27 and 72 gates;
+// depths 5, 8, 9, 11, 24; one step or a whole window of lanes) and awkward ones.
+TEST(Products, LanesGiveTheRowsBits) {
+  std::mt19937 random(22);
+  std::uniform_real_distribution<float> value(-2.0f, 2.0f);
+  for (const ProductKernel kernel : {ProductKernel::kBuild, ProductKernel::kAvx512}) {
+    for (const int outputs : {1, 5, 6, 7, 27, 72}) {
+      for (const int depth : {1, 5, 8, 9, 11, 24, 37}) {
+        for (const int lanes : {16, 32, 48, 64, 80, 480}) {
+          const std::size_t ldw = static_cast<std::size_t>(depth) + 1;
+          const std::size_t ldx = static_cast<std::size_t>(lanes) + 16;
+          std::vector<float> w(static_cast<std::size_t>(outputs) * ldw);
+          std::vector<float> x(static_cast<std::size_t>(depth) * ldx);
+          std::vector<float> bias(static_cast<std::size_t>(outputs));
+          for (std::vector<float>* v : {&w, &x, &bias}) {
+            std::generate(v->begin(), v->end(), [&] { return value(random); });
+          }
+          // The same product with people as rows: a = xᵀ (lanes × depth), wᵀ (depth × outputs).
+          std::vector<float> a(static_cast<std::size_t>(lanes) * depth);
+          std::vector<float> wt(static_cast<std::size_t>(depth) * outputs);
+          for (int i = 0; i < depth; ++i) {
+            for (int p = 0; p < lanes; ++p) {
+              a[static_cast<std::size_t>(p) * depth + i] = x[i * ldx + p];
+            }
+            for (int j = 0; j < outputs; ++j) {
+              wt[static_cast<std::size_t>(i) * outputs + j] = w[j * ldw + i];
+            }
+          }
+          std::vector<float> rows(static_cast<std::size_t>(lanes) * outputs);
+          multiply_rows(kernel, a.data(), depth, wt.data(), outputs, rows.data(), outputs, lanes,
+                        depth, outputs);
+          const std::size_t ldc = static_cast<std::size_t>(lanes) + 3;
+          std::vector<float> plain(outputs * ldc, -1.0f), biased(outputs * ldc, -1.0f);
+          multiply_lanes(kernel, w.data(), ldw, x.data(), ldx, plain.data(), ldc, outputs, depth,
+                         lanes);
+          multiply_lanes(kernel, w.data(), ldw, x.data(), ldx, biased.data(), ldc, outputs, depth,
+                         lanes, bias.data());
+          int differing = 0;
+          for (int j = 0; j < outputs; ++j) {
+            for (int p = 0; p < lanes; ++p) {
+              const float row = rows[static_cast<std::size_t>(p) * outputs + j];
+              const float with_bias = row + bias[static_cast<std::size_t>(j)];
+              differing += std::memcmp(&plain[j * ldc + p], &row, sizeof(float)) != 0;
+              differing += std::memcmp(&biased[j * ldc + p], &with_bias, sizeof(float)) != 0;
+            }
+            // Past the lanes nothing is written.
+            EXPECT_EQ(plain[j * ldc + static_cast<std::size_t>(lanes)], -1.0f);
+          }
+          EXPECT_EQ(differing, 0) << outputs << " outputs, depth " << depth << ", " << lanes
+                                  << " lanes, kernel " << static_cast<int>(kernel);
+        }
+      }
+    }
+  }
+}
+
+// Random weights for a GRU layer (what load() would fill), both layouts of them.
+template <int In, int Hidden>
+GruLayer<In, Hidden> random_gru(unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<float> value(-0.6f, 0.6f);
+  GruLayer<In, Hidden> layer;
+  for (std::span<float> v : {layer.weight_ih.storage(), layer.weight_hh.storage(),
+                             layer.bias_ih.storage(), layer.bias_hh.storage()}) {
+    std::generate(v.begin(), v.end(), [&] { return value(random); });
+  }
+  transpose_into(layer.weight_ih, layer.weight_ih_by_column);
+  transpose_into(layer.weight_hh, layer.weight_hh_by_column);
+  return layer;
+}
+
+// A GRU stepped with people in lanes keeps every person's state bit for bit as stepped with
+// people as rows, over a whole window, inputs large enough to reach the gates' saturated ends.
+template <int In, int Hidden>
+void expect_lanes_step_like_rows(unsigned seed) {
+  const GruLayer<In, Hidden> layer = random_gru<In, Hidden>(seed);
+  constexpr int kPeople = 21, kLanes = lanes_for(kPeople), kGates = 3 * Hidden;
+  std::mt19937 random(seed + 1);
+  std::uniform_real_distribution<float> value(-12.0f, 12.0f);
+  AlignedFloats h_rows(kPeople * Hidden, 0.0f), h_lanes(Hidden * kLanes, 0.0f);
+  AlignedFloats gi_rows(kPeople * kGates), gh_rows(kPeople * kGates);
+  AlignedFloats work(decltype(layer)::gate_work_floats(kPeople));
+  AlignedFloats x_rows(kPeople * In), x_lanes(In * kLanes, 0.0f);
+  AlignedFloats gi_lanes(kGates * kLanes), gh_lanes(kGates * kLanes);
+  for (int t = 0; t < kWindowRows; ++t) {
+    std::generate(x_rows.begin(), x_rows.end(), [&] { return value(random); });
+    for (int p = 0; p < kPeople; ++p) {
+      for (int i = 0; i < In; ++i) {
+        x_lanes[static_cast<std::size_t>(i) * kLanes + p] = x_rows[p * In + i];
+      }
+    }
+    layer.project_inputs_batch(x_rows.data(), In, kPeople, gi_rows.data());
+    layer.step_batch(gi_rows.data(), kGates, h_rows.data(), gh_rows.data(), work.data(), kPeople);
+    layer.project_inputs_lanes(x_lanes.data(), kLanes, kLanes, gi_lanes.data(), kLanes);
+    layer.step_lanes(gi_lanes.data(), h_lanes.data(), gh_lanes.data(), kLanes);
+  }
+  std::vector<float> back(kPeople * Hidden);
+  lanes_to_rows(h_lanes.data(), Hidden, kPeople, kLanes, back.data());
+  EXPECT_EQ(std::memcmp(back.data(), h_rows.data(), back.size() * sizeof(float)), 0)
+      << In << " inputs, hidden " << Hidden;
+  EXPECT_NE(h_rows[0], 0.0f);
+}
+
+TEST(Gru, StepsInLanesAsInRows) {
+  expect_lanes_step_like_rows<5, 9>(31);
+  expect_lanes_step_like_rows<9, 9>(32);
+  expect_lanes_step_like_rows<11, 24>(33);
+  expect_lanes_step_like_rows<8, 9>(34);
+}
+
+// A window's row gathered into lanes: each person's values down a column, zeros past them.
+TEST(Lanes, WindowRowsGoDownColumns) {
+  constexpr int kPeople = 3, kColumns = 4, kWindow = 40;
+  std::vector<float> windows(kPeople * kWindow);
+  for (std::size_t i = 0; i < windows.size(); ++i) {
+    windows[i] = static_cast<float>(i);
+  }
+  std::vector<float> x(kColumns * kLaneGroup, -1.0f);
+  window_row_to_lanes(windows.data(), kWindow, 10, kColumns, kPeople, kLaneGroup, x.data());
+  for (int c = 0; c < kColumns; ++c) {
+    for (int p = 0; p < kLaneGroup; ++p) {
+      const float expected = p < kPeople ? static_cast<float>(p * kWindow + 10 + c) : 0.0f;
+      EXPECT_EQ(x[static_cast<std::size_t>(c) * kLaneGroup + p], expected) << c << ", " << p;
+    }
+  }
+  std::vector<float> rows(kPeople * kColumns);
+  lanes_to_rows(x.data(), kColumns, kPeople, kLaneGroup, rows.data());
+  EXPECT_EQ(rows[1 * kColumns + 2], static_cast<float>(kWindow + 12));
+  EXPECT_EQ(lanes_for(1), 16);
+  EXPECT_EQ(lanes_for(16), 16);
+  EXPECT_EQ(lanes_for(17), 32);
 }
 
 TEST(Batch, SameWeightsTellsHandlesApart) {
