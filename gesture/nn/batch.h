@@ -63,16 +63,14 @@ void multiply_rows(ProductKernel kernel, const float* a, std::size_t lda, const 
                    int cols) noexcept;
 
 // People in lanes: the layout of the GRUs' batches (gru.h, step_lanes), where value j of person
-// p sits at v + j·ld + p, so that one vector holds the same value of sixteen people. A batch of
-// `count` people takes lanes_for(count) lanes (whole groups of kLaneGroup; the lanes past
-// `count` hold zeros and are never read back).
+// p sits at v + j·ld + p, so that one vector holds the same value of sixteen people. A batch's
+// whole groups of kLaneGroup people run in lanes (people_in_lanes); the rest, fewer than sixteen,
+// run as rows: a group filled in part costs as much as a full one, more than its people cost as
+// rows (docs/scaling.md).
 inline constexpr int kLaneGroup = 16;
-constexpr int lanes_for(int count) noexcept {
-  return (count + kLaneGroup - 1) / kLaneGroup * kLaneGroup;
+constexpr int people_in_lanes(int count) noexcept {
+  return count / kLaneGroup * kLaneGroup;
 }
-// Batches of at least this many people run their GRUs in lanes; smaller ones as rows, where
-// padding to a whole group would cost more than it saves (docs/scaling.md).
-inline constexpr int kLanesFromPeople = 8;
 
 // c = w·x (+ bias) with people in lanes: w is rows × depth (row j at w + j·ldw, e.g. a GRU's
 // weights as PyTorch stores them), x is depth × lanes (row i at x + i·ldx), c is rows × lanes

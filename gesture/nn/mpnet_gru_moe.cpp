@@ -27,8 +27,8 @@ constexpr std::size_t gate_work_floats(int count) {
 }
 
 // The working memory of a batch of `count` windows, in BatchBuffers' slots (one layout for
-// run_batch and reserve_batch). Batches of kLanesFromPeople or more run the GRUs with people in
-// lanes (decision 92) and use the `lanes` buffers; smaller ones the rows' projections.
+// run_batch and reserve_batch). A batch's whole groups of sixteen run the GRUs with people in
+// lanes (decision 92) in the `lanes` buffers, the rest as rows.
 struct MpnetBatchMemory {
   static constexpr int kExperts = MpnetGruMoe::kExperts;
   static constexpr int kHidden = MpnetGruMoe::kRecurrentHidden;
@@ -45,7 +45,8 @@ struct MpnetBatchMemory {
   float* y;             // count × 3
   float* gate_work;     // the GRUs' gates (GruLayer::step_batch), the wider layer's size
 
-  // People in lanes, every array lanes_for(count) wide (GruLayer::step_lanes).
+  // The people in lanes, people_in_lanes(count) of them: every array that wide
+  // (GruLayer::step_lanes).
   struct Lanes {
     int width = 0;
     float* x = nullptr;             // 11 × width: the step's inputs
@@ -88,8 +89,9 @@ struct MpnetBatchMemory {
 
   MpnetBatchMemory(BatchBuffers& buffers, int count) {
     const auto n = static_cast<std::size_t>(count);
-    const bool in_lanes = count >= kLanesFromPeople;
-    const auto rows = in_lanes ? 0 : n * kWindowRows;
+    const int in_lanes = people_in_lanes(count);
+    const auto as_rows = static_cast<std::size_t>(count - in_lanes);
+    const auto rows = as_rows * kWindowRows;
     gi_gating = buffers.get(0, rows * 3 * kExperts).data();
     gi_recurrent = buffers.get(1, rows * 3 * kHidden).data();
     gi_gating_l1 = buffers.get(2, n * 3 * kExperts).data();
@@ -101,9 +103,9 @@ struct MpnetBatchMemory {
     h1 = buffers.get(8, n * MpnetGruMoe::kExpertHidden).data();
     h2 = buffers.get(9, n * MpnetGruMoe::kExpertHidden).data();
     y = buffers.get(10, n * kProgressionSize).data();
-    gate_work = buffers.get(11, in_lanes ? 0 : gate_work_floats(count)).data();
-    if (in_lanes) {
-      lanes.width = lanes_for(count);
+    gate_work = buffers.get(11, gate_work_floats(static_cast<int>(as_rows))).data();
+    if (in_lanes > 0) {
+      lanes.width = in_lanes;
       const auto width = static_cast<std::size_t>(lanes.width);
       lanes.x = buffers.get(12, kMpnetFeatures * width).data();
       lanes.gi_gating = buffers.get(13, 3 * kExperts * width).data();
@@ -117,10 +119,10 @@ struct MpnetBatchMemory {
   }
 };
 
-// The three GRUs over `count` windows with people as rows: m.omega (count × 9) ← the gating
-// network's last state, m.z (count × 24) ← the recurrent module's.
+// The three GRUs over `count` windows with people as rows: omega (count × 9) ← the gating
+// network's last state, z (count × 24) ← the recurrent module's; the rest of m is working memory.
 void run_grus_by_rows(const MpnetGruMoe& net, const float* windows, int count,
-                      const MpnetBatchMemory& m) {
+                      const MpnetBatchMemory& m, float* omega, float* z) {
   constexpr int kExperts = MpnetGruMoe::kExperts;
   constexpr int kHidden = MpnetGruMoe::kRecurrentHidden;
   const auto n = static_cast<std::size_t>(count);
@@ -132,24 +134,23 @@ void run_grus_by_rows(const MpnetGruMoe& net, const float* windows, int count,
                                      count * kWindowRows, m.gi_gating);
   net.recurrent.project_inputs_batch(windows, kMpnetFeatures, count * kWindowRows, m.gi_recurrent);
   std::fill_n(m.gating_h0, n * kExperts, 0.0f);
-  std::fill_n(m.omega, n * kExperts, 0.0f);
-  std::fill_n(m.z, n * kHidden, 0.0f);
+  std::fill_n(omega, n * kExperts, 0.0f);
+  std::fill_n(z, n * kHidden, 0.0f);
   constexpr std::size_t kGatingStride = kWindowRows * 3 * kExperts;
   constexpr std::size_t kRecurrentStride = kWindowRows * 3 * kHidden;
   for (int t = 0; t < kWindowRows; ++t) {
     step_two_layers_batch(net.gating_l0, net.gating_l1, m.gi_gating + t * 3 * kExperts,
-                          kGatingStride, m.gating_h0, m.omega, m.gi_gating_l1, m.gh, m.gate_work,
+                          kGatingStride, m.gating_h0, omega, m.gi_gating_l1, m.gh, m.gate_work,
                           count);
-    net.recurrent.step_batch(m.gi_recurrent + t * 3 * kHidden, kRecurrentStride, m.z, m.gh,
+    net.recurrent.step_batch(m.gi_recurrent + t * 3 * kHidden, kRecurrentStride, z, m.gh,
                              m.gate_work, count);
   }
 }
 
-// The same with people in lanes (decision 92): each step's inputs gathered into lanes and
-// projected, the step taken on whole rows of people (everything a step touches stays in the L1
-// cache), the last states turned back into rows.
-void run_grus_in_lanes(const MpnetGruMoe& net, const float* windows, int count,
-                       const MpnetBatchMemory& m) {
+// The same for the first m.lanes.width windows with people in lanes (decision 92): each step's
+// inputs gathered into lanes and projected, the step taken on whole rows of people (everything a
+// step touches stays in the L1 cache), the last states turned back into rows of m.omega and m.z.
+void run_grus_in_lanes(const MpnetGruMoe& net, const float* windows, const MpnetBatchMemory& m) {
   constexpr int kExperts = MpnetGruMoe::kExperts;
   constexpr int kHidden = MpnetGruMoe::kRecurrentHidden;
   const MpnetBatchMemory::Lanes& l = m.lanes;
@@ -159,7 +160,7 @@ void run_grus_in_lanes(const MpnetGruMoe& net, const float* windows, int count,
   std::fill_n(l.z, kHidden * width, 0.0f);
   for (int t = 0; t < kWindowRows; ++t) {
     window_row_to_lanes(windows, kMpnetWindowSize, static_cast<std::size_t>(t) * kMpnetFeatures,
-                        kMpnetFeatures, count, l.width, l.x);
+                        kMpnetFeatures, l.width, l.width, l.x);
     net.gating_l0.project_inputs_lanes(l.x + kMpnetTargetColumn * width, width, l.width,
                                        l.gi_gating, width);
     net.recurrent.project_inputs_lanes(l.x, width, l.width, l.gi_recurrent, width);
@@ -167,8 +168,8 @@ void run_grus_in_lanes(const MpnetGruMoe& net, const float* windows, int count,
                           l.gi_gating_l1, l.gh, l.width);
     net.recurrent.step_lanes(l.gi_recurrent, l.z, l.gh, l.width);
   }
-  lanes_to_rows(l.omega, kExperts, count, l.width, m.omega);
-  lanes_to_rows(l.z, kHidden, count, l.width, m.z);
+  lanes_to_rows(l.omega, kExperts, l.width, l.width, m.omega);
+  lanes_to_rows(l.z, kHidden, l.width, l.width, m.z);
 }
 
 // The whole network on `count` windows in `m`. The same code runs one window (run()) and a batch
@@ -179,10 +180,15 @@ void run_moe(const MpnetGruMoe& net, const float* windows, int count, MpnetOutpu
   constexpr int kExperts = MpnetGruMoe::kExperts;
   constexpr int kHidden = MpnetGruMoe::kRecurrentHidden;
   const auto n = static_cast<std::size_t>(count);
-  if (m.lanes.width > 0) {
-    run_grus_in_lanes(net, windows, count, m);
-  } else {
-    run_grus_by_rows(net, windows, count, m);
+  // Whole groups of sixteen people in lanes, the rest as rows: the same bits either way.
+  const int in_lanes = m.lanes.width;
+  if (in_lanes > 0) {
+    run_grus_in_lanes(net, windows, m);
+  }
+  if (in_lanes < count) {
+    const auto first = static_cast<std::size_t>(in_lanes);
+    run_grus_by_rows(net, windows + first * kMpnetWindowSize, count - in_lanes, m,
+                     m.omega + first * kExperts, m.z + first * kHidden);
   }
   for (std::size_t r = 0; r < n; ++r) {
     Eigen::Map<Eigen::Matrix<float, kExperts, 1>> omega(m.omega + r * kExperts);
@@ -212,7 +218,7 @@ MpnetOutput MpnetGruMoe::run(MpnetWindow window, MpnetTrace* trace) const {
 
 void MpnetGruMoe::reserve_batch(int count, BatchBuffers& buffers) {
   // Both layouts: smaller batches later run as rows.
-  const MpnetBatchMemory by_rows(buffers, std::min(count, kLanesFromPeople - 1));
+  const MpnetBatchMemory by_rows(buffers, std::min(count, kLaneGroup - 1));
   const MpnetBatchMemory sized(buffers, count);
 }
 

@@ -39,8 +39,8 @@ constexpr std::size_t gate_work_floats(int count) {
 }
 
 // The working memory of a batch of `count` windows, in BatchBuffers' slots (one layout for
-// run_batch and reserve_batch). Batches of kLanesFromPeople or more run the gating GRUs with
-// people in lanes (decision 92) and use the `lanes` buffers; smaller ones the rows' projections.
+// run_batch and reserve_batch). A batch's whole groups of sixteen run the gating GRUs with
+// people in lanes (decision 92) in the `lanes` buffers, the rest as rows.
 struct UgnetBatchMemory {
   static constexpr int kExperts = UgnetMoe::kExperts;
   static constexpr int kHidden = UgnetMoe::kHidden;
@@ -55,7 +55,8 @@ struct UgnetBatchMemory {
   float* h2;            // count × 144
   float* gate_work;     // the gating GRUs' gates (GruLayer::step_batch)
 
-  // People in lanes, every array lanes_for(count) wide (GruLayer::step_lanes).
+  // The people in lanes, people_in_lanes(count) of them: every array that wide
+  // (GruLayer::step_lanes).
   struct Lanes {
     int width = 0;
     float* x = nullptr;             // 8 × width: the step's conditioning columns
@@ -91,8 +92,9 @@ struct UgnetBatchMemory {
 
   UgnetBatchMemory(BatchBuffers& buffers, int count) {
     const auto n = static_cast<std::size_t>(count);
-    const bool in_lanes = count >= kLanesFromPeople;
-    gi_gating = buffers.get(0, (in_lanes ? 0 : n) * kWindowRows * 3 * kExperts).data();
+    const int in_lanes = people_in_lanes(count);
+    const auto as_rows = static_cast<std::size_t>(count - in_lanes);
+    gi_gating = buffers.get(0, as_rows * kWindowRows * 3 * kExperts).data();
     gi_gating_l1 = buffers.get(1, n * 3 * kExperts).data();
     gh = buffers.get(2, n * 3 * kExperts).data();
     gating_h0 = buffers.get(3, n * kExperts).data();
@@ -101,9 +103,9 @@ struct UgnetBatchMemory {
     all = buffers.get(6, n * kExperts * kHidden).data();
     h1 = buffers.get(7, n * kHidden).data();
     h2 = buffers.get(8, n * kHidden).data();
-    gate_work = buffers.get(9, in_lanes ? 0 : gate_work_floats(count)).data();
-    if (in_lanes) {
-      lanes.width = lanes_for(count);
+    gate_work = buffers.get(9, gate_work_floats(static_cast<int>(as_rows))).data();
+    if (in_lanes > 0) {
+      lanes.width = in_lanes;
       const auto width = static_cast<std::size_t>(lanes.width);
       lanes.x = buffers.get(12, kConditionColumns * width).data();
       lanes.gi_gating = buffers.get(13, 3 * kExperts * width).data();
@@ -115,28 +117,28 @@ struct UgnetBatchMemory {
   }
 };
 
-// The gating network over `count` windows' conditioning columns with people as rows: m.omega
-// (count × 9) ← its last state. Rows of consecutive windows are consecutive, so all are
-// projected at once, then everyone's GRUs step together.
+// The gating network over `count` windows' conditioning columns with people as rows: omega
+// (count × 9) ← its last state; the rest of m is working memory. Rows of consecutive windows are
+// consecutive, so all are projected at once, then everyone's GRUs step together.
 void run_gating_by_rows(const UgnetMoe& net, const float* windows, int count,
-                        const UgnetBatchMemory& m) {
+                        const UgnetBatchMemory& m, float* omega) {
   constexpr int kExperts = UgnetMoe::kExperts;
   const auto n = static_cast<std::size_t>(count);
   net.gating_l0.project_inputs_batch(windows + kPoseSize, kUgnetColumns, count * kWindowRows,
                                      m.gi_gating);
   std::fill_n(m.gating_h0, n * kExperts, 0.0f);
-  std::fill_n(m.omega, n * kExperts, 0.0f);
+  std::fill_n(omega, n * kExperts, 0.0f);
   constexpr std::size_t kGatingStride = kWindowRows * 3 * kExperts;
   for (int t = 0; t < kWindowRows; ++t) {
     step_two_layers_batch(net.gating_l0, net.gating_l1, m.gi_gating + t * 3 * kExperts,
-                          kGatingStride, m.gating_h0, m.omega, m.gi_gating_l1, m.gh, m.gate_work,
+                          kGatingStride, m.gating_h0, omega, m.gi_gating_l1, m.gh, m.gate_work,
                           count);
   }
 }
 
-// The same with people in lanes (decision 92).
-void run_gating_in_lanes(const UgnetMoe& net, const float* windows, int count,
-                         const UgnetBatchMemory& m) {
+// The same for the first m.lanes.width windows with people in lanes (decision 92), into their
+// rows of m.omega.
+void run_gating_in_lanes(const UgnetMoe& net, const float* windows, const UgnetBatchMemory& m) {
   constexpr int kExperts = UgnetMoe::kExperts;
   const UgnetBatchMemory::Lanes& l = m.lanes;
   const auto width = static_cast<std::size_t>(l.width);
@@ -145,12 +147,12 @@ void run_gating_in_lanes(const UgnetMoe& net, const float* windows, int count,
   for (int t = 0; t < kWindowRows; ++t) {
     window_row_to_lanes(windows, kUgnetWindowSize,
                         static_cast<std::size_t>(t) * kUgnetColumns + kPoseSize, kConditionColumns,
-                        count, l.width, l.x);
+                        l.width, l.width, l.x);
     net.gating_l0.project_inputs_lanes(l.x, width, l.width, l.gi_gating, width);
     step_two_layers_lanes(net.gating_l0, net.gating_l1, l.gi_gating, l.gating_h0, l.omega,
                           l.gi_gating_l1, l.gh, l.width);
   }
-  lanes_to_rows(l.omega, kExperts, count, l.width, m.omega);
+  lanes_to_rows(l.omega, kExperts, l.width, l.width, m.omega);
 }
 
 // The whole network on `count` windows in `m`. The same code runs one window (run()) and a batch
@@ -160,10 +162,15 @@ void run_moe(const UgnetMoe& net, const float* windows, int count, float* out,
              const UgnetBatchMemory& m, bool reverse) {
   constexpr int kExperts = UgnetMoe::kExperts;
   const auto n = static_cast<std::size_t>(count);
-  if (m.lanes.width > 0) {
-    run_gating_in_lanes(net, windows, count, m);
-  } else {
-    run_gating_by_rows(net, windows, count, m);
+  // Whole groups of sixteen people in lanes, the rest as rows: the same bits either way.
+  const int in_lanes = m.lanes.width;
+  if (in_lanes > 0) {
+    run_gating_in_lanes(net, windows, m);
+  }
+  if (in_lanes < count) {
+    const auto first = static_cast<std::size_t>(in_lanes);
+    run_gating_by_rows(net, windows + first * kUgnetWindowSize, count - in_lanes, m,
+                       m.omega + first * kExperts);
   }
   for (std::size_t r = 0; r < n; ++r) {
     Eigen::Map<Eigen::Matrix<float, kExperts, 1>> omega(m.omega + r * kExperts);
@@ -191,7 +198,7 @@ PoseVector UgnetMoe::run(UgnetWindow window, UgnetTrace* trace) const {
 
 void UgnetMoe::reserve_batch(int count, BatchBuffers& buffers) {
   // Both layouts: smaller batches later run as rows.
-  const UgnetBatchMemory by_rows(buffers, std::min(count, kLanesFromPeople - 1));
+  const UgnetBatchMemory by_rows(buffers, std::min(count, kLaneGroup - 1));
   const UgnetBatchMemory sized(buffers, count);
 }
 

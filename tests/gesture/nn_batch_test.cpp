@@ -26,8 +26,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// 3 runs the GRUs with people as rows, 17 and 64 with people in lanes (17 in two groups of
-// sixteen, fifteen lanes of padding; nn/batch.h, kLanesFromPeople).
+// 3 runs the GRUs with people as rows, 64 with people in lanes, 17 both ways (a group of sixteen
+// in lanes, one person as rows; nn/batch.h, people_in_lanes).
 constexpr std::size_t kBatchSizes[] = {1, 3, 17, 64};
 
 fs::path authors(const std::string& hand) {
@@ -193,13 +193,13 @@ TEST_P(MoeBatches, UgnetBatchEqualsOneByOne) {
 INSTANTIATE_TEST_SUITE_P(Hands, MoeBatches, ::testing::Values("right", "left"));
 
 // A batch after a larger one reuses the buffers without stale values leaking in, whether it
-// runs as rows (2) or in fewer lanes (9).
+// runs as rows (2) or partly in fewer lanes (19).
 TEST(MoeBatch, SmallerBatchAfterLargerIsUnaffected) {
   const Ugnet ugnet = Ugnet::load(authors("right") / "UGNet(MoE)(AC)120.safetensors");
   const Mpnet mpnet = Mpnet::load(authors("right") / "MPNet(MoE)(AC)80.safetensors");
   const std::vector<float> pool = fixture_windows("UGNet_MoE_right");
   const std::vector<float> mpnet_pool = fixture_windows("MPNet_MoE_right");
-  for (const std::size_t count : {std::size_t{2}, std::size_t{9}}) {
+  for (const std::size_t count : {std::size_t{2}, std::size_t{19}}) {
     BatchBuffers buffers;
     std::vector<float> big(64 * kPoseSize), small(count * kPoseSize), fresh(count * kPoseSize);
     ugnet.run_batch(take(pool, kUgnetWindowSize, 64, 5), {}, big, buffers);
@@ -350,7 +350,8 @@ GruLayer<In, Hidden> random_gru(unsigned seed) {
 template <int In, int Hidden>
 void expect_lanes_step_like_rows(unsigned seed) {
   const GruLayer<In, Hidden> layer = random_gru<In, Hidden>(seed);
-  constexpr int kPeople = 21, kLanes = lanes_for(kPeople), kGates = 3 * Hidden;
+  // 21 people in 32 lanes: the lanes past them are computed too, and must not disturb them.
+  constexpr int kPeople = 21, kLanes = 32, kGates = 3 * Hidden;
   std::mt19937 random(seed + 1);
   std::uniform_real_distribution<float> value(-12.0f, 12.0f);
   AlignedFloats h_rows(kPeople * Hidden, 0.0f), h_lanes(Hidden * kLanes, 0.0f);
@@ -402,9 +403,9 @@ TEST(Lanes, WindowRowsGoDownColumns) {
   std::vector<float> rows(kPeople * kColumns);
   lanes_to_rows(x.data(), kColumns, kPeople, kLaneGroup, rows.data());
   EXPECT_EQ(rows[1 * kColumns + 2], static_cast<float>(kWindow + 12));
-  EXPECT_EQ(lanes_for(1), 16);
-  EXPECT_EQ(lanes_for(16), 16);
-  EXPECT_EQ(lanes_for(17), 32);
+  EXPECT_EQ(people_in_lanes(15), 0);
+  EXPECT_EQ(people_in_lanes(16), 16);
+  EXPECT_EQ(people_in_lanes(47), 32);
 }
 
 TEST(Batch, SameWeightsTellsHandlesApart) {

@@ -57,7 +57,7 @@ TEST_F(PeopleTick, CrowdEqualsEachAvatarAlone) {
   const Networks left = testing::load_networks(testing::reference_dir() / "weights/left");
   const TargetMap room = testing::receiving_room();
   const LocalTargets targets{&room, Vec3(0, 1.6f, 0.5f)};
-  for (const int people : {1, 4, 9}) {
+  for (const int people : {1, 4, 9, 34}) {  // 34: each hand's sixteen in lanes, one as a row
     std::vector<testing::CrowdPerson> crowd;
     std::vector<std::unique_ptr<RemoteAvatar>> alone, together;
     for (int k = 0; k < people; ++k) {
