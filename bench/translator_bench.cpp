@@ -18,6 +18,10 @@
 #include <memory>
 #include <vector>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#endif
+
 #include "avatar/avatar_loader.h"
 #include "gesture/translator.h"
 #include "presence/people_tick.h"
@@ -224,9 +228,65 @@ void BM_BatchProduct(benchmark::State& state) {
                                                     benchmark::Counter::kIsIterationInvariantRate);
 }
 
+#if defined(__x86_64__) && defined(__AVX2__) && (defined(__GNUC__) || defined(__clang__))
+// Divisions a second by 8-float (AVX2) and 16-float (AVX-512) vectors, eight independent chains:
+// what bounds the GRU gates (Eigen's logistic and tanh divide once per value), and why they stay
+// in the build's 8-float packets where 16-float ones divide no faster (decision 92).
+void report_divisions(benchmark::State& state, int floats) {
+  state.counters["G_divisions_per_s"] =
+      benchmark::Counter(1e-9 * 64 * 8 * floats, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_GateDivisions_Avx2(benchmark::State& state) {
+  __m256 c[8];
+  const __m256 divisor = _mm256_set1_ps(1.0000001f);
+  for (__m256& v : c) {
+    v = _mm256_set1_ps(1.5f);
+  }
+  for (auto _ : state) {
+    for (int k = 0; k < 64; ++k) {
+      for (__m256& v : c) {
+        v = _mm256_div_ps(v, divisor);
+      }
+    }
+    benchmark::DoNotOptimize(c);
+  }
+  report_divisions(state, 8);
+}
+
+__attribute__((target("avx512f"))) void divide_in_16s(benchmark::State& state) {
+  __m512 c[8];
+  const __m512 divisor = _mm512_set1_ps(1.0000001f);
+  for (__m512& v : c) {
+    v = _mm512_set1_ps(1.5f);
+  }
+  for (auto _ : state) {
+    for (int k = 0; k < 64; ++k) {
+      for (__m512& v : c) {
+        v = _mm512_div_ps(v, divisor);
+      }
+    }
+    benchmark::DoNotOptimize(c);
+  }
+  report_divisions(state, 16);
+}
+
+void BM_GateDivisions_Avx512(benchmark::State& state) {
+  if (!__builtin_cpu_supports("avx512f")) {
+    state.SkipWithError("no AVX-512 on this CPU");
+    return;
+  }
+  divide_in_16s(state);
+}
+#endif
+
 }  // namespace
 
 BENCHMARK(BM_BatchProduct)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+#if defined(__x86_64__) && defined(__AVX2__) && (defined(__GNUC__) || defined(__clang__))
+BENCHMARK(BM_GateDivisions_Avx2);
+BENCHMARK(BM_GateDivisions_Avx512);
+#endif
 BENCHMARK(BM_TranslatorTick)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RemoteAvatarTick)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_PeopleTick)->Arg(1)->Arg(4)->Arg(16)->Arg(64)->Unit(benchmark::kMicrosecond);
