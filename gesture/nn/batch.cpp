@@ -1,6 +1,5 @@
 #include "gesture/nn/batch.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <utility>
@@ -479,17 +478,13 @@ void multiply_lanes(ProductKernel kernel, const float* w, std::size_t ldw, const
 }
 
 void window_row_to_lanes(const float* windows, std::size_t window_size, std::size_t row,
-                         int columns, int count, int lanes, float* x) noexcept {
-  const auto ld = static_cast<std::size_t>(lanes);
+                         int columns, int count, float* x) noexcept {
+  const auto ld = static_cast<std::size_t>(count);
   for (int p = 0; p < count; ++p) {
     const float* in = windows + static_cast<std::size_t>(p) * window_size + row;
     for (int c = 0; c < columns; ++c) {
       x[static_cast<std::size_t>(c) * ld + static_cast<std::size_t>(p)] = in[c];
     }
-  }
-  for (int c = 0; c < columns; ++c) {
-    std::fill(x + static_cast<std::size_t>(c) * ld + static_cast<std::size_t>(count),
-              x + static_cast<std::size_t>(c + 1) * ld, 0.0f);
   }
 }
 

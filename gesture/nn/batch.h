@@ -92,10 +92,11 @@ void multiply_lanes(ProductKernel kernel, const float* w, std::size_t ldw, const
                     const float* bias = nullptr) noexcept;
 
 // Row `row` of every window (window p's values from windows + p·window_size + row on, `columns`
-// of them) in lanes: value c of person p at x + c·lanes + p, the lanes past `count` zero. One
-// step's inputs of a GRU over `count` windows, ready for project_inputs_lanes.
+// of them) in lanes, one lane a person: value c of person p at x + c·count + p. One step's
+// inputs of a GRU over `count` windows (a multiple of kLaneGroup), ready for
+// project_inputs_lanes.
 void window_row_to_lanes(const float* windows, std::size_t window_size, std::size_t row,
-                         int columns, int count, int lanes, float* x) noexcept;
+                         int columns, int count, float* x) noexcept;
 
 // The opposite way for one vector per person: v (size × lanes, row j at v + j·lanes) → out
 // (count × size, person r's values at out + r·size).

@@ -32,18 +32,20 @@ constexpr std::size_t gate_work_floats(int count) {
 struct MpnetBatchMemory {
   static constexpr int kExperts = MpnetGruMoe::kExperts;
   static constexpr int kHidden = MpnetGruMoe::kRecurrentHidden;
-  float* gi_gating;     // count·30 × 27: gating layer 1's input projections, window by window
-  float* gi_recurrent;  // count·30 × 72
-  float* gi_gating_l1;  // count × 27: gating layer 2's input projection of this step
-  float* gh;            // count × 72: hidden projections of the step being taken
-  float* gating_h0;     // count × 9
-  float* omega;         // count × 9: gating layer 2's state, then its softmax
-  float* z;             // count × 24: the recurrent module's state
-  float* all;           // count × 108: every expert's outputs of one layer
-  float* h1;            // count × 12
-  float* h2;            // count × 12
-  float* y;             // count × 3
-  float* gate_work;     // the GRUs' gates (GruLayer::step_batch), the wider layer's size
+  // The people as rows, `rows` of them (count in run(), the rest past the lanes in a batch).
+  float* gi_gating;     // rows·30 × 27: gating layer 1's input projections, window by window
+  float* gi_recurrent;  // rows·30 × 72
+  float* gi_gating_l1;  // rows × 27: gating layer 2's input projection of this step
+  float* gh;            // rows × 72: hidden projections of the step being taken
+  float* gating_h0;     // rows × 9
+  float* gate_work;     // their gates (GruLayer::step_batch), the wider layer's size
+  // Everyone's.
+  float* omega;  // count × 9: gating layer 2's state, then its softmax
+  float* z;      // count × 24: the recurrent module's state
+  float* all;    // count × 108: every expert's outputs of one layer
+  float* h1;     // count × 12
+  float* h2;     // count × 12
+  float* y;      // count × 3
 
   // The people in lanes, people_in_lanes(count) of them: every array that wide
   // (GruLayer::step_lanes).
@@ -79,13 +81,13 @@ struct MpnetBatchMemory {
         gi_gating_l1(lone.gi_gating_l1.data()),
         gh(lone.gh.data()),
         gating_h0(lone.gating_h0.data()),
+        gate_work(lone.gate_work.data()),
         omega(lone.omega.data()),
         z(lone.z.data()),
         all(lone.all.data()),
         h1(lone.h1.data()),
         h2(lone.h2.data()),
-        y(lone.y.data()),
-        gate_work(lone.gate_work.data()) {}
+        y(lone.y.data()) {}
 
   MpnetBatchMemory(BatchBuffers& buffers, int count) {
     const auto n = static_cast<std::size_t>(count);
@@ -94,9 +96,9 @@ struct MpnetBatchMemory {
     const auto rows = as_rows * kWindowRows;
     gi_gating = buffers.get(0, rows * 3 * kExperts).data();
     gi_recurrent = buffers.get(1, rows * 3 * kHidden).data();
-    gi_gating_l1 = buffers.get(2, n * 3 * kExperts).data();
-    gh = buffers.get(3, n * 3 * kHidden).data();
-    gating_h0 = buffers.get(4, n * kExperts).data();
+    gi_gating_l1 = buffers.get(2, as_rows * 3 * kExperts).data();
+    gh = buffers.get(3, as_rows * 3 * kHidden).data();
+    gating_h0 = buffers.get(4, as_rows * kExperts).data();
     omega = buffers.get(5, n * kExperts).data();
     z = buffers.get(6, n * kHidden).data();
     all = buffers.get(7, n * kExperts * MpnetGruMoe::kExpertHidden).data();
@@ -160,7 +162,7 @@ void run_grus_in_lanes(const MpnetGruMoe& net, const float* windows, const Mpnet
   std::fill_n(l.z, kHidden * width, 0.0f);
   for (int t = 0; t < kWindowRows; ++t) {
     window_row_to_lanes(windows, kMpnetWindowSize, static_cast<std::size_t>(t) * kMpnetFeatures,
-                        kMpnetFeatures, l.width, l.width, l.x);
+                        kMpnetFeatures, l.width, l.x);
     net.gating_l0.project_inputs_lanes(l.x + kMpnetTargetColumn * width, width, l.width,
                                        l.gi_gating, width);
     net.recurrent.project_inputs_lanes(l.x, width, l.width, l.gi_recurrent, width);

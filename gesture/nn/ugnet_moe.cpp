@@ -44,16 +44,18 @@ constexpr std::size_t gate_work_floats(int count) {
 struct UgnetBatchMemory {
   static constexpr int kExperts = UgnetMoe::kExperts;
   static constexpr int kHidden = UgnetMoe::kHidden;
-  float* gi_gating;     // count·30 × 27: gating layer 1's input projections, window by window
-  float* gi_gating_l1;  // count × 27: gating layer 2's input projection of this step
-  float* gh;            // count × 27: hidden projections of the step being taken
-  float* gating_h0;     // count × 9
-  float* omega;         // count × 9: gating layer 2's state, then its softmax
-  float* condition;     // count × 264
-  float* all;           // count × 9·144: every expert's outputs of one layer
-  float* h1;            // count × 144
-  float* h2;            // count × 144
-  float* gate_work;     // the gating GRUs' gates (GruLayer::step_batch)
+  // The people as rows, `rows` of them (count in run(), the rest past the lanes in a batch).
+  float* gi_gating;     // rows·30 × 27: gating layer 1's input projections, window by window
+  float* gi_gating_l1;  // rows × 27: gating layer 2's input projection of this step
+  float* gh;            // rows × 27: hidden projections of the step being taken
+  float* gating_h0;     // rows × 9
+  float* gate_work;     // their gates (GruLayer::step_batch)
+  // Everyone's.
+  float* omega;      // count × 9: gating layer 2's state, then its softmax
+  float* condition;  // count × 264
+  float* all;        // count × 9·144: every expert's outputs of one layer
+  float* h1;         // count × 144
+  float* h2;         // count × 144
 
   // The people in lanes, people_in_lanes(count) of them: every array that wide
   // (GruLayer::step_lanes).
@@ -83,21 +85,21 @@ struct UgnetBatchMemory {
         gi_gating_l1(lone.gi_gating_l1.data()),
         gh(lone.gh.data()),
         gating_h0(lone.gating_h0.data()),
+        gate_work(lone.gate_work.data()),
         omega(lone.omega.data()),
         condition(lone.condition.data()),
         all(lone.all.data()),
         h1(lone.h1.data()),
-        h2(lone.h2.data()),
-        gate_work(lone.gate_work.data()) {}
+        h2(lone.h2.data()) {}
 
   UgnetBatchMemory(BatchBuffers& buffers, int count) {
     const auto n = static_cast<std::size_t>(count);
     const int in_lanes = people_in_lanes(count);
     const auto as_rows = static_cast<std::size_t>(count - in_lanes);
     gi_gating = buffers.get(0, as_rows * kWindowRows * 3 * kExperts).data();
-    gi_gating_l1 = buffers.get(1, n * 3 * kExperts).data();
-    gh = buffers.get(2, n * 3 * kExperts).data();
-    gating_h0 = buffers.get(3, n * kExperts).data();
+    gi_gating_l1 = buffers.get(1, as_rows * 3 * kExperts).data();
+    gh = buffers.get(2, as_rows * 3 * kExperts).data();
+    gating_h0 = buffers.get(3, as_rows * kExperts).data();
     omega = buffers.get(4, n * kExperts).data();
     condition = buffers.get(5, n * kConditionSize).data();
     all = buffers.get(6, n * kExperts * kHidden).data();
@@ -147,7 +149,7 @@ void run_gating_in_lanes(const UgnetMoe& net, const float* windows, const UgnetB
   for (int t = 0; t < kWindowRows; ++t) {
     window_row_to_lanes(windows, kUgnetWindowSize,
                         static_cast<std::size_t>(t) * kUgnetColumns + kPoseSize, kConditionColumns,
-                        l.width, l.width, l.x);
+                        l.width, l.x);
     net.gating_l0.project_inputs_lanes(l.x, width, l.width, l.gi_gating, width);
     step_two_layers_lanes(net.gating_l0, net.gating_l1, l.gi_gating, l.gating_h0, l.omega,
                           l.gi_gating_l1, l.gh, l.width);

@@ -385,24 +385,31 @@ TEST(Gru, StepsInLanesAsInRows) {
   expect_lanes_step_like_rows<8, 9>(34);
 }
 
-// A window's row gathered into lanes: each person's values down a column, zeros past them.
+// A window's row gathered into lanes: each person's values down a column, one lane each, and
+// back into rows.
 TEST(Lanes, WindowRowsGoDownColumns) {
-  constexpr int kPeople = 3, kColumns = 4, kWindow = 40;
+  constexpr int kPeople = kLaneGroup, kColumns = 4, kWindow = 40;
   std::vector<float> windows(kPeople * kWindow);
   for (std::size_t i = 0; i < windows.size(); ++i) {
     windows[i] = static_cast<float>(i);
   }
-  std::vector<float> x(kColumns * kLaneGroup, -1.0f);
-  window_row_to_lanes(windows.data(), kWindow, 10, kColumns, kPeople, kLaneGroup, x.data());
+  std::vector<float> x(kColumns * kPeople, -1.0f);
+  window_row_to_lanes(windows.data(), kWindow, 10, kColumns, kPeople, x.data());
   for (int c = 0; c < kColumns; ++c) {
-    for (int p = 0; p < kLaneGroup; ++p) {
-      const float expected = p < kPeople ? static_cast<float>(p * kWindow + 10 + c) : 0.0f;
-      EXPECT_EQ(x[static_cast<std::size_t>(c) * kLaneGroup + p], expected) << c << ", " << p;
+    for (int p = 0; p < kPeople; ++p) {
+      EXPECT_EQ(x[static_cast<std::size_t>(c) * kPeople + p],
+                static_cast<float>(p * kWindow + 10 + c))
+          << c << ", " << p;
     }
   }
   std::vector<float> rows(kPeople * kColumns);
-  lanes_to_rows(x.data(), kColumns, kPeople, kLaneGroup, rows.data());
-  EXPECT_EQ(rows[1 * kColumns + 2], static_cast<float>(kWindow + 12));
+  lanes_to_rows(x.data(), kColumns, kPeople, kPeople, rows.data());
+  for (int p = 0; p < kPeople; ++p) {
+    for (int c = 0; c < kColumns; ++c) {
+      EXPECT_EQ(rows[static_cast<std::size_t>(p) * kColumns + c],
+                static_cast<float>(p * kWindow + 10 + c));
+    }
+  }
   EXPECT_EQ(people_in_lanes(15), 0);
   EXPECT_EQ(people_in_lanes(16), 16);
   EXPECT_EQ(people_in_lanes(47), 32);
