@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "app/command_table.h"
+#include "app/crash_report.h"
 
 namespace {
 
@@ -76,6 +77,7 @@ bool refuse_unknown_command(CLI::App& program, int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  deixis::app::install_crash_report();
   CLI::App program{
       "Deixis: real-time translation of upper-body gestures (gaze, pointing, touching, free-form) "
       "to avatars in dissimilar telepresence rooms."};
