@@ -18,7 +18,7 @@ constexpr std::array<int, 5> kFatalSignals = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, S
 constexpr int kMaxFrames = 64;
 
 // Only async-signal-safe calls from here on: write(2), backtrace_symbols_fd (which writes without
-// allocating), sigaction, raise.
+// allocating), raise.
 void say(const char* text) noexcept {
   const std::size_t length = std::strlen(text);
   std::size_t written = 0;
@@ -81,11 +81,8 @@ void on_fatal_signal(int signal, siginfo_t* info, void*) {
   void* frames[kMaxFrames];
   const int count = ::backtrace(frames, kMaxFrames);
   ::backtrace_symbols_fd(frames, count, STDERR_FILENO);
-  // Die of the same signal: the default action (and its core dump, where enabled), not an exit.
-  struct sigaction dfl {};
-  dfl.sa_handler = SIG_DFL;
-  sigemptyset(&dfl.sa_mask);
-  ::sigaction(signal, &dfl, nullptr);
+  // Die of the same signal: SA_RESETHAND put its default action back on entry, so this ends the
+  // process as the signal would have (with its core dump, where enabled), not with an exit.
   ::raise(signal);
 }
 

@@ -7,8 +7,8 @@
 // batched across people, then touch contact and IK per person), docs/scaling.md. Counters:
 // us_per_person (CPU time of the tick / N), net_us_per_person (the batched MPNet + UGNet alone on
 // the same N windows; mpnet_us and ugnet_us each network's part of it) and net_share (their part
-// of the tick). Goal: at N = 64, us_per_person at
-// most a third of N = 1's in the same run, and net_us_per_person ≤ 12 µs.
+// of the tick). Goal: at N = 64, us_per_person at most a third of N = 1's in the same run, and
+// net_us_per_person ≤ 12 µs.
 
 #include <benchmark/benchmark.h>
 
