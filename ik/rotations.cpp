@@ -105,6 +105,15 @@ Mat3 scale_rotation(const Mat3& R, float t) {
 Mat3 clamp_rotation(const Mat3& R, float max_angle) {
   const Quat q = canonical_quat(R);
   const float s = q.vec().norm();
+  // Most rotations the IK clamps are well inside their limit, and the angle's atan2 was a tenth of
+  // the IK's time. The angle 2·atan2(s, w) is at most 2·s/w (atan x ≤ x), so where 2·s is below
+  // max_angle·w by more than the round-off of that product and of atan2 (a few 1e-7), the angle
+  // is inside the limit however atan2 rounds: the same decision, and the same bits, as computing
+  // it. Near the limit (within 1e-4 of it, relatively) or beyond, the angle is computed.
+  constexpr float kSurelyInside = 0.9999f;
+  if (2.0f * s <= kSurelyInside * max_angle * q.w()) {
+    return R;
+  }
   const float angle = 2.0f * std::atan2(s, q.w());
   if (angle <= max_angle || s < 1e-7f) {
     return R;

@@ -4,16 +4,7 @@
 #include <cstddef>
 #include <utility>
 
-// The AVX-512 kernels are compiled for that target whatever the build's -march, and chosen at run
-// time (GCC and Clang on x86-64), in builds whose own kernels are fused multiply-adds (-march with
-// FMA, as release builds are): they compute the same chains, so the same bits. A build without
-// FMA (the sanitizer builds, which take no -march) multiplies and adds separately, with other
-// bits, and keeps its own kernels only.
-#if defined(__x86_64__) && defined(__FMA__) && (defined(__GNUC__) || defined(__clang__))
-#define DEIXIS_AVX512_KERNEL 1
-#else
-#define DEIXIS_AVX512_KERNEL 0
-#endif
+#include "gesture/nn/simd_target.h"
 
 #if (defined(__AVX2__) && defined(__FMA__)) || DEIXIS_AVX512_KERNEL
 #include <immintrin.h>
@@ -185,8 +176,6 @@ void multiply_lanes_avx2(const float* w, std::size_t ldw, const float* x, std::s
 // are an array indexed only through pack expansions (no loop over them), so the compiler can keep
 // them in registers (batch_test's kernel comparison and translator_bench's BM_BatchProduct say
 // whether it did).
-#define DEIXIS_AVX512_TARGET __attribute__((target("avx512f")))
-
 template <int R, int Z, std::size_t... V, std::size_t... K>
 DEIXIS_AVX512_TARGET inline void zblock(const float* a, std::size_t lda, const float* w,
                                         std::size_t ldw, float* c, std::size_t ldc, int depth,

@@ -14,39 +14,11 @@
 
 #include "gesture/nn/activations.h"
 #include "gesture/nn/batch.h"
+#include "gesture/nn/gates.h"
 #include "gesture/nn/lanewise_math.h"
 #include "gesture/nn/params.h"
 
 namespace deixis::nn {
-
-// The gates run in whole packets of the build's vector unit (8 floats with AVX2), and
-// padded_to_packets(n) floats hold n values with no remainder.
-using GatePacket = Eigen::internal::packet_traits<float>::type;
-inline constexpr std::size_t kGatePacketFloats =
-    static_cast<std::size_t>(Eigen::internal::packet_traits<float>::size);
-
-constexpr std::size_t padded_to_packets(std::size_t n) noexcept {
-  return (n + kGatePacketFloats - 1) / kGatePacketFloats * kGatePacketFloats;
-}
-
-// values[0, n) ← op(values), packet by packet through the functor's packetOp only (Eigen's
-// scalar_logistic_op, scalar_tanh_op): the padding up to padded_to_packets(n) is zeroed and
-// evaluated too, and `values` is aligned to EIGEN_MAX_ALIGN_BYTES, so no value takes a scalar
-// path (see GruLayer::step_batch for why that matters).
-template <typename Op>
-void apply_in_packets(float* values, std::size_t n, Op op) noexcept {
-  const std::size_t padded = padded_to_packets(n);
-  std::fill(values + n, values + padded, 0.0f);
-  // GCC warns that a vector type's attributes are dropped as a template argument; Eigen's own
-  // headers silence the same warning for their uses of it.
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wignored-attributes"
-  for (std::size_t i = 0; i < padded; i += kGatePacketFloats) {
-    Eigen::internal::pstore(values + i,
-                            op.packetOp(Eigen::internal::pload<GatePacket>(values + i)));
-  }
-#pragma GCC diagnostic pop
-}
 
 template <int In, int Hidden>
 struct GruLayer {
@@ -136,7 +108,7 @@ struct GruLayer {
   // pre-activations side by side through one logistic, everyone's n through one tanh, over
   // buffers padded to whole packets. Each lane's result depends on that lane's value alone (Eigen's
   // packet logistic and tanh select every lane by its own value), and every value goes through
-  // the packet operation (apply_in_packets), never Eigen's scalar path, which rounds differently
+  // the packet operation (gates.h), never Eigen's scalar path, which rounds differently
   // (it has no fused multiply-adds). The multiply-adds around them are
   // explicit (lanewise::multiply_add): left to the compiler, a loop's vectorised body and its
   // scalar remainder were not contracted alike, and a person's bits changed with the batch. So a
@@ -158,7 +130,7 @@ struct GruLayer {
         rzr[j] = gir[j] + (ghr[j] + b[j]);
       }
     }
-    apply_in_packets(rz, n * 2 * Hidden, Eigen::internal::scalar_logistic_op<float>{});
+    logistic_in_place(rz, n * 2 * Hidden);
     for (std::size_t r = 0; r < n; ++r) {
       const float* gir = gi + r * ldgi + 2 * Hidden;
       const float* ghr = gh + r * kGates + 2 * Hidden;
@@ -168,7 +140,7 @@ struct GruLayer {
         cr[j] = lanewise::multiply_add(reset[j], ghr[j] + b[2 * Hidden + j], gir[j]);
       }
     }
-    apply_in_packets(candidate, n * Hidden, Eigen::internal::scalar_tanh_op<float>{});
+    tanh_in_place(candidate, n * Hidden);
     for (std::size_t r = 0; r < n; ++r) {
       const float* update = rz + r * 2 * Hidden + Hidden;
       const float* cr = candidate + r * Hidden;
@@ -204,13 +176,13 @@ struct GruLayer {
     for (std::size_t k = 0; k < rz_size; ++k) {
       rz[k] = gi[k] + rz[k];
     }
-    apply_in_packets(rz, rz_size, Eigen::internal::scalar_logistic_op<float>{});
+    logistic_in_place(rz, rz_size);
     float* candidate = gh + rz_size;
     const float* gi_candidate = gi + rz_size;
     for (std::size_t k = 0; k < Hidden * ld; ++k) {
       candidate[k] = lanewise::multiply_add(rz[k], candidate[k], gi_candidate[k]);
     }
-    apply_in_packets(candidate, Hidden * ld, Eigen::internal::scalar_tanh_op<float>{});
+    tanh_in_place(candidate, Hidden * ld);
     const float* update = rz + Hidden * ld;
     for (std::size_t k = 0; k < Hidden * ld; ++k) {
       h[k] = lanewise::multiply_add(update[k], h[k] - candidate[k], candidate[k]);

@@ -4,6 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+
 #include "ik/joint_limits.h"
 #include "ik/skeleton.h"
 #include "rig_pose.h"
@@ -60,6 +65,55 @@ TEST(Rotations, ScaleAndClampKeepTheAxis) {
   EXPECT_TRUE(clamp_rotation(R, deg(90)).isApprox(R));
   EXPECT_NEAR(rotation_angle(axis_angle(Vec3::UnitZ(), deg(179.9f))), deg(179.9f), 1e-4f);
   EXPECT_NEAR(rotation_angle(axis_angle(Vec3::UnitZ(), 1e-4f)), 1e-4f, 1e-7f);
+}
+
+// clamp_rotation as it was before its shortcut: the angle computed every time. The shortcut must
+// decide exactly as this does, so that the IK's results keep their bits.
+Mat3 clamp_by_angle(const Mat3& R, float max_angle) {
+  Quat q(R);
+  if (q.w() < 0.0f) {
+    q.coeffs() = -q.coeffs();
+  }
+  const float s = q.vec().norm();
+  const float angle = 2.0f * std::atan2(s, q.w());
+  if (angle <= max_angle || s < 1e-7f) {
+    return R;
+  }
+  return axis_angle(q.vec() / s, max_angle);
+}
+
+TEST(Rotations, ClampDecidesAsTheAngleWouldEvenAtTheLimit) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  std::uniform_real_distribution<float> limit(0.0f, kPi);
+  // Rotations at the limit give or take a few ulp, within 2e-4 of it, and anywhere.
+  std::uniform_real_distribution<float> near(-2e-4f, 2e-4f);
+  std::uniform_real_distribution<float> anywhere(0.0f, kPi);
+  int clamped = 0;
+  int inside = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const Vec3 axis = normalized_or(Vec3(unit(rng), unit(rng), unit(rng)), Vec3::UnitX());
+    const float max_angle = i % 50 == 0 ? 0.0f : limit(rng);
+    float angle = max_angle;
+    if (i % 3 == 1) {
+      angle = std::clamp(max_angle * (1.0f + near(rng)), 0.0f, kPi);
+    } else if (i % 3 == 2) {
+      angle = anywhere(rng);
+    } else {
+      for (int ulps = static_cast<int>(rng() % 9) - 4; ulps != 0; ulps += ulps > 0 ? -1 : 1) {
+        angle = std::nextafter(angle, ulps > 0 ? kPi : 0.0f);
+      }
+    }
+    const Mat3 R = axis_angle(axis, angle);
+    const Mat3 expected = clamp_by_angle(R, max_angle);
+    const Mat3 got = clamp_rotation(R, max_angle);
+    ASSERT_EQ(std::memcmp(expected.data(), got.data(), sizeof(Mat3)), 0)
+        << "angle " << angle << " limit " << max_angle;
+    (expected == R ? inside : clamped) += 1;
+  }
+  // Both decisions were exercised, many times.
+  EXPECT_GT(clamped, 20000);
+  EXPECT_GT(inside, 20000);
 }
 
 TEST(Rotations, DegenerateInputHasFallbacksNotNaN) {

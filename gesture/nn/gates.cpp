@@ -1,0 +1,164 @@
+#include "gesture/nn/gates.h"
+
+#include <algorithm>
+
+#include "gesture/nn/simd_target.h"
+
+#if DEIXIS_AVX512_KERNEL
+#include <immintrin.h>
+#endif
+
+namespace deixis::nn {
+namespace {
+
+using GatePacket = Eigen::internal::packet_traits<float>::type;
+
+// values[0, padded) ← op(values), packet by packet through the functor's packetOp only (Eigen's
+// scalar_logistic_op, scalar_tanh_op); `padded` is a whole number of packets.
+template <typename Op>
+void apply_in_packets(float* values, std::size_t padded, Op op) noexcept {
+  // GCC warns that a vector type's attributes are dropped as a template argument; Eigen's own
+  // headers silence the same warning for their uses of it.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wignored-attributes"
+  for (std::size_t i = 0; i < padded; i += kGatePacketFloats) {
+    Eigen::internal::pstoreu(values + i,
+                             op.packetOp(Eigen::internal::ploadu<GatePacket>(values + i)));
+  }
+#pragma GCC diagnostic pop
+}
+
+void eigen_logistic(float* values, std::size_t padded) noexcept {
+  apply_in_packets(values, padded, Eigen::internal::scalar_logistic_op<float>{});
+}
+
+void eigen_tanh(float* values, std::size_t padded) noexcept {
+  apply_in_packets(values, padded, Eigen::internal::scalar_tanh_op<float>{});
+}
+
+#if DEIXIS_AVX512_KERNEL
+// GCC 12's headers implement _mm512_min_ps and _mm512_max_ps through _mm512_undefined_ps(), a
+// self-initialised variable its flow analysis then reports as maybe uninitialised once inlined.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
+// Eigen 3.4's float logistic (UnaryFunctors.h, scalar_logistic_op<float>::packetOp) and tanh
+// (MathFunctionsImpl.h, generic_fast_tanh_float) as they compile with EIGEN_VECTORIZE_FMA, whose
+// constants they are, in 16-float vectors. Operand orders follow Eigen's AVX packets: its pmin(a,
+// b) and pmax(a, b) are vminps/vmaxps with the operands swapped (b, a), which decides what a NaN
+// gives; pcmp_lt is an ordered, quiet less-than; pselect(m, a, b) takes a where m is set.
+DEIXIS_AVX512_TARGET inline __m512 multiply_add(__m512 a, __m512 b, float c) noexcept {
+  return _mm512_fmadd_ps(a, b, _mm512_set1_ps(c));
+}
+
+// The logistic where no value is below −9 (there Eigen takes e^x instead; the caller checks).
+DEIXIS_AVX512_TARGET inline __m512 logistic16(__m512 x_in) noexcept {
+  const __m512 x = _mm512_min_ps(_mm512_set1_ps(15.7243833541870117f), x_in);
+  const __m512 x2 = _mm512_mul_ps(x, x);
+  __m512 p = multiply_add(x2, _mm512_set1_ps(4.37031012579801e-11f), 1.15627324459942e-07f);
+  p = multiply_add(x2, p, 6.08574864600143e-05f);
+  p = multiply_add(x2, p, 8.51377133304701e-03f);
+  p = multiply_add(x2, p, 2.48287947061529e-01f);
+  p = _mm512_mul_ps(x, p);
+  __m512 q = multiply_add(x2, _mm512_set1_ps(6.10247389755681e-13f), 5.76102136993427e-09f);
+  q = multiply_add(x2, q, 6.29106785017040e-06f);
+  q = multiply_add(x2, q, 1.70198817374094e-03f);
+  q = multiply_add(x2, q, 1.16817656904453e-01f);
+  q = multiply_add(x2, q, 9.93151921023180e-01f);
+  return _mm512_add_ps(_mm512_div_ps(p, q), _mm512_set1_ps(0.5f));
+}
+
+DEIXIS_AVX512_TARGET inline __m512 tanh16(__m512 x_in) noexcept {
+  constexpr float kClamp = 7.99881172180175781f;
+  const __m512 x =
+      _mm512_max_ps(_mm512_set1_ps(-kClamp), _mm512_min_ps(_mm512_set1_ps(kClamp), x_in));
+  const __m512 magnitude = _mm512_abs_ps(x_in);
+  const __mmask16 tiny = _mm512_cmp_ps_mask(magnitude, _mm512_set1_ps(0.0004f), _CMP_LT_OQ);
+  const __m512 x2 = _mm512_mul_ps(x, x);
+  __m512 p = multiply_add(x2, _mm512_set1_ps(-2.76076847742355e-16f), 2.00018790482477e-13f);
+  p = multiply_add(x2, p, -8.60467152213735e-11f);
+  p = multiply_add(x2, p, 5.12229709037114e-08f);
+  p = multiply_add(x2, p, 1.48572235717979e-05f);
+  p = multiply_add(x2, p, 6.37261928875436e-04f);
+  p = multiply_add(x2, p, 4.89352455891786e-03f);
+  p = _mm512_mul_ps(x, p);
+  __m512 q = multiply_add(x2, _mm512_set1_ps(1.19825839466702e-06f), 1.18534705686654e-04f);
+  q = multiply_add(x2, q, 2.26843463243900e-03f);
+  q = multiply_add(x2, q, 4.89352518554385e-03f);
+  return _mm512_mask_blend_ps(tiny, _mm512_div_ps(p, q), x);
+}
+
+// The last vector of a padded buffer may hold one packet of 8 (padded is a multiple of 8).
+DEIXIS_AVX512_TARGET inline __mmask16 vector_mask(std::size_t left) noexcept {
+  return left >= 16 ? static_cast<__mmask16>(0xffff) : static_cast<__mmask16>(0x00ff);
+}
+
+DEIXIS_AVX512_TARGET void logistic_avx512(float* values, std::size_t padded) noexcept {
+  for (std::size_t i = 0; i < padded; i += 16) {
+    const __mmask16 mask = vector_mask(padded - i);
+    const __m512 x = _mm512_maskz_loadu_ps(mask, values + i);
+    if (_mm512_cmp_ps_mask(x, _mm512_set1_ps(-9.0f), _CMP_LT_OQ) != 0) {
+      // Eigen's own packets for the rare vector with a value below −9 (its e^x branch).
+      eigen_logistic(values + i, std::min<std::size_t>(16, padded - i));
+      continue;
+    }
+    _mm512_mask_storeu_ps(values + i, mask, logistic16(x));
+  }
+}
+
+DEIXIS_AVX512_TARGET void tanh_avx512(float* values, std::size_t padded) noexcept {
+  for (std::size_t i = 0; i < padded; i += 16) {
+    const __mmask16 mask = vector_mask(padded - i);
+    _mm512_mask_storeu_ps(values + i, mask, tanh16(_mm512_maskz_loadu_ps(mask, values + i)));
+  }
+}
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+#endif
+
+std::size_t zero_padding(float* values, std::size_t n) noexcept {
+  const std::size_t padded = padded_to_packets(n);
+  std::fill(values + n, values + padded, 0.0f);
+  return padded;
+}
+
+}  // namespace
+
+void logistic_in_place(ProductKernel kernel, float* values, std::size_t n) noexcept {
+  const std::size_t padded = zero_padding(values, n);
+#if DEIXIS_AVX512_KERNEL
+  if (kernel == ProductKernel::kAvx512) {
+    logistic_avx512(values, padded);
+    return;
+  }
+#else
+  (void)kernel;
+#endif
+  eigen_logistic(values, padded);
+}
+
+void tanh_in_place(ProductKernel kernel, float* values, std::size_t n) noexcept {
+  const std::size_t padded = zero_padding(values, n);
+#if DEIXIS_AVX512_KERNEL
+  if (kernel == ProductKernel::kAvx512) {
+    tanh_avx512(values, padded);
+    return;
+  }
+#else
+  (void)kernel;
+#endif
+  eigen_tanh(values, padded);
+}
+
+void logistic_in_place(float* values, std::size_t n) noexcept {
+  logistic_in_place(best_product_kernel(), values, n);
+}
+
+void tanh_in_place(float* values, std::size_t n) noexcept {
+  tanh_in_place(best_product_kernel(), values, n);
+}
+
+}  // namespace deixis::nn
