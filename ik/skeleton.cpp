@@ -68,7 +68,9 @@ void update_model_path(const Skeleton& skeleton, std::span<const Pose> local, st
   // recompute downward. A deeper path (unheard of in humanoids) recomputes the whole index range
   // [from, joint] instead, which depth-first order makes correct too.
   constexpr int kMaxDepth = 64;
-  std::array<int, kMaxDepth> path{};
+  // Only path[0, n) is read, so it is not zero-filled: filling 64 ints on every call was 3 % of a
+  // whole avatar's solve (ik_bench's BM_AvatarSolve, 8.8 → 8.5 µs).
+  std::array<int, kMaxDepth> path;
   int n = 0;
   int j = joint;
   while (j != from && j != kNoParent && n < kMaxDepth) {
