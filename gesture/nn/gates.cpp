@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "gesture/nn/lanewise_math.h"
 #include "gesture/nn/simd_target.h"
 
 #if DEIXIS_AVX512_KERNEL
@@ -114,6 +115,32 @@ DEIXIS_AVX512_TARGET void tanh_avx512(float* values, std::size_t padded) noexcep
     _mm512_mask_storeu_ps(values + i, mask, tanh16(_mm512_maskz_loadu_ps(mask, values + i)));
   }
 }
+
+DEIXIS_AVX512_TARGET void gru_gates_avx512(const float* gi, float* gh, float* h,
+                                           std::size_t values) noexcept {
+  const std::size_t rz_size = 2 * values;
+  for (std::size_t i = 0; i < rz_size; i += 16) {
+    const __m512 x = _mm512_add_ps(_mm512_loadu_ps(gi + i), _mm512_loadu_ps(gh + i));
+    if (_mm512_cmp_ps_mask(x, _mm512_set1_ps(-9.0f), _CMP_LT_OQ) != 0) {
+      _mm512_storeu_ps(gh + i, x);
+      eigen_logistic(gh + i, 16);  // as logistic_avx512 does
+      continue;
+    }
+    _mm512_storeu_ps(gh + i, logistic16(x));
+  }
+  const float* reset = gh;
+  const float* update = gh + values;
+  const float* gh_candidate = gh + rz_size;
+  const float* gi_candidate = gi + rz_size;
+  for (std::size_t k = 0; k < values; k += 16) {
+    const __m512 n =
+        tanh16(_mm512_fmadd_ps(_mm512_loadu_ps(reset + k), _mm512_loadu_ps(gh_candidate + k),
+                               _mm512_loadu_ps(gi_candidate + k)));
+    const __m512 h_old = _mm512_loadu_ps(h + k);
+    _mm512_storeu_ps(h + k,
+                     _mm512_fmadd_ps(_mm512_loadu_ps(update + k), _mm512_sub_ps(h_old, n), n));
+  }
+}
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
 #endif
@@ -151,6 +178,36 @@ void tanh_in_place(ProductKernel kernel, float* values, std::size_t n) noexcept 
   (void)kernel;
 #endif
   eigen_tanh(values, padded);
+}
+
+void gru_gates_in_lanes(ProductKernel kernel, const float* gi, float* gh, float* h,
+                        std::size_t values) noexcept {
+#if DEIXIS_AVX512_KERNEL
+  if (kernel == ProductKernel::kAvx512 && values % 16 == 0) {
+    gru_gates_avx512(gi, gh, h, values);
+    return;
+  }
+#endif
+  const std::size_t rz_size = 2 * values;
+  float* rz = gh;
+  for (std::size_t k = 0; k < rz_size; ++k) {
+    rz[k] = gi[k] + rz[k];
+  }
+  logistic_in_place(kernel, rz, rz_size);
+  float* candidate = gh + rz_size;
+  const float* gi_candidate = gi + rz_size;
+  for (std::size_t k = 0; k < values; ++k) {
+    candidate[k] = lanewise::multiply_add(rz[k], candidate[k], gi_candidate[k]);
+  }
+  tanh_in_place(kernel, candidate, values);
+  const float* update = rz + values;
+  for (std::size_t k = 0; k < values; ++k) {
+    h[k] = lanewise::multiply_add(update[k], h[k] - candidate[k], candidate[k]);
+  }
+}
+
+void gru_gates_in_lanes(const float* gi, float* gh, float* h, std::size_t values) noexcept {
+  gru_gates_in_lanes(best_product_kernel(), gi, gh, h, values);
 }
 
 void logistic_in_place(float* values, std::size_t n) noexcept {

@@ -171,22 +171,7 @@ struct GruLayer {
     const auto ld = static_cast<std::size_t>(lanes);
     multiply_lanes(weight_hh.storage().data(), Hidden, h, ld, gh, ld, kGates, Hidden, lanes,
                    bias_hh.storage().data());
-    const std::size_t rz_size = 2 * Hidden * ld;
-    float* rz = gh;
-    for (std::size_t k = 0; k < rz_size; ++k) {
-      rz[k] = gi[k] + rz[k];
-    }
-    logistic_in_place(rz, rz_size);
-    float* candidate = gh + rz_size;
-    const float* gi_candidate = gi + rz_size;
-    for (std::size_t k = 0; k < Hidden * ld; ++k) {
-      candidate[k] = lanewise::multiply_add(rz[k], candidate[k], gi_candidate[k]);
-    }
-    tanh_in_place(candidate, Hidden * ld);
-    const float* update = rz + Hidden * ld;
-    for (std::size_t k = 0; k < Hidden * ld; ++k) {
-      h[k] = lanewise::multiply_add(update[k], h[k] - candidate[k], candidate[k]);
-    }
+    gru_gates_in_lanes(gi, gh, h, Hidden * ld);
   }
 
   // Runs over the rows of `inputs` (Steps × In) from h = 0 and writes every step's hidden state

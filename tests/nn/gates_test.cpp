@@ -1,7 +1,8 @@
 // The GRUs' gate functions (gesture/nn/gates.h): the AVX-512 logistic and tanh give, value by
 // value, the bits of Eigen's packet operations that the build's own kernel runs, over every float
 // of the functions' working range and a sample of all the rest (infinities, NaN, subnormals), in
-// buffers of any length, beside values that take Eigen's e^x branch; and the padding is evaluated.
+// buffers of any length, beside values that take Eigen's e^x branch, and in a whole GRU step with
+// people in lanes; and the padding is evaluated.
 // On a CPU without AVX-512 (or in a build without the kernel) there is one kernel and nothing to
 // compare: those tests skip and say so.
 
@@ -137,6 +138,51 @@ TEST(Gates, Avx512GivesTheBuildsBitsInBuffersOfAnyLength) {
     }
   }
   EXPECT_GT(below, 1000);
+}
+
+TEST(Gates, Avx512GivesTheBuildsBitsForAGruStepInLanes) {
+  if (!have_avx512()) {
+    GTEST_SKIP() << "one gate kernel here: no AVX-512 on this CPU or in this build";
+  }
+  // The GRUs' hidden sizes (9, 24) and more, 16 to 64 people; projections spread so that some
+  // r|z sums fall below −9 (Eigen's e^x branch) and some n arguments beyond tanh's clamp.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> projection(-7.0f, 7.0f);
+  std::uniform_real_distribution<float> state(-1.0f, 1.0f);
+  for (const std::size_t hidden : {9u, 24u, 72u}) {
+    for (const std::size_t lanes : {16u, 32u, 64u}) {
+      const std::size_t values = hidden * lanes;
+      std::vector<float> gi(3 * values);
+      std::vector<float> gh(3 * values);
+      std::vector<float> h(values);
+      for (int trial = 0; trial < 5; ++trial) {
+        for (float& v : gi) {
+          v = projection(rng);
+        }
+        for (float& v : gh) {
+          v = projection(rng);
+        }
+        for (float& v : h) {
+          v = state(rng);
+        }
+        std::vector<float> gh_build = gh;
+        std::vector<float> h_build = h;
+        std::vector<float> gh_wide = gh;
+        std::vector<float> h_wide = h;
+        gru_gates_in_lanes(ProductKernel::kBuild, gi.data(), gh_build.data(), h_build.data(),
+                           values);
+        gru_gates_in_lanes(ProductKernel::kAvx512, gi.data(), gh_wide.data(), h_wide.data(),
+                           values);
+        for (std::size_t k = 0; k < values; ++k) {
+          ASSERT_TRUE(same_bits(h_build[k], h_wide[k]))
+              << "hidden " << hidden << ", lanes " << lanes << ", value " << k << ": " << h_build[k]
+              << " against " << h_wide[k];
+        }
+        // The new state moved: the step did something.
+        EXPECT_NE(h_build, h);
+      }
+    }
+  }
 }
 
 TEST(Gates, ThePaddingIsZeroedAndEvaluated) {
