@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "gesture/nn/batch.h"
 #include "gesture/nn/lanewise_math.h"
 
 namespace deixis::nn {
@@ -18,8 +19,11 @@ inline float elu(float v) noexcept {
 }
 
 // Over `count` contiguous values, in a loop compiled to vector code (activations.cpp; the
-// compile flag that allows it is explained in gesture/CMakeLists.txt).
+// compile flag that allows it is explained in gesture/CMakeLists.txt): 16-float vectors where the
+// CPU has AVX-512, the build's otherwise, the same bits either way. With a kernel: the products'
+// choice (batch.h); it must be available.
 void elu_inplace(float* x, std::size_t count) noexcept;
+void elu_inplace(ProductKernel kernel, float* x, std::size_t count) noexcept;
 
 template <typename Derived>
 void elu_inplace(Eigen::MatrixBase<Derived>& x) {

@@ -1,8 +1,8 @@
 // The lane-wise expm1 (gesture/nn/lanewise_math.h) and the ELU made of it
 // (gesture/nn/activations.h): accurate against the double-precision C library, saturating
 // sensibly outside its range, NaN kept, and, what they exist for, a value's result the same
-// bits whatever its neighbours and wherever it sits in the library's vectorised loop (against the
-// same function called one value at a time).
+// bits whatever its neighbours and wherever it sits in the library's vectorised loop, 8 or 16
+// floats wide (against the same function called one value at a time).
 
 #include <gtest/gtest.h>
 
@@ -91,20 +91,28 @@ TEST(LanewiseMath, AValueGetsTheSameBitsWhateverItsNeighbours) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     values[i] = i % 3 == 0 ? narrow(rng) : wide(rng);
   }
-  // The library's loop (vector code, built with its own flags in another translation unit)...
-  std::vector<float> vectorised = values;
-  elu_inplace(vectorised.data(), vectorised.size());
-  // ... on the same values shifted by one place (each in another lane), with other neighbours...
-  std::vector<float> shifted(values.size() + 1, -15.0f);
-  std::copy(values.begin(), values.end(), shifted.begin() + 1);
-  elu_inplace(shifted.data(), shifted.size());
-  // ... and one value at a time, here.
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const float alone = one_at_a_time(elu, values[i]);
-    ASSERT_EQ(std::bit_cast<std::uint32_t>(vectorised[i]), std::bit_cast<std::uint32_t>(alone))
-        << "elu(" << values[i] << ") at " << i;
-    ASSERT_EQ(std::bit_cast<std::uint32_t>(shifted[i + 1]), std::bit_cast<std::uint32_t>(alone))
-        << "elu(" << values[i] << ") shifted from " << i;
+  // The library's loop (vector code, built with its own flags in another translation unit; with
+  // 16-float vectors too where the CPU has AVX-512)...
+  for (const ProductKernel kernel : {ProductKernel::kBuild, ProductKernel::kAvx512}) {
+    if (!product_kernel_available(kernel)) {
+      continue;
+    }
+    SCOPED_TRACE(kernel == ProductKernel::kBuild ? "the build's vectors" : "AVX-512");
+    std::vector<float> vectorised = values;
+    elu_inplace(kernel, vectorised.data(), vectorised.size());
+    // ... on the same values shifted by one place (each in another lane), with other
+    // neighbours...
+    std::vector<float> shifted(values.size() + 1, -15.0f);
+    std::copy(values.begin(), values.end(), shifted.begin() + 1);
+    elu_inplace(kernel, shifted.data(), shifted.size());
+    // ... and one value at a time, here.
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const float alone = one_at_a_time(elu, values[i]);
+      ASSERT_EQ(std::bit_cast<std::uint32_t>(vectorised[i]), std::bit_cast<std::uint32_t>(alone))
+          << "elu(" << values[i] << ") at " << i;
+      ASSERT_EQ(std::bit_cast<std::uint32_t>(shifted[i + 1]), std::bit_cast<std::uint32_t>(alone))
+          << "elu(" << values[i] << ") shifted from " << i;
+    }
   }
 }
 
