@@ -466,8 +466,40 @@ void multiply_lanes(ProductKernel kernel, const float* w, std::size_t ldw, const
                     ldx, c, ldc, rows, depth, lanes, bias);
 }
 
+#if DEIXIS_AVX512_KERNEL
+namespace {
+
+// Sixteen people's value of one column in one gather: a person's row is contiguous in their
+// window, so the scalar loop below stores one value at a time `count` floats apart.
+DEIXIS_AVX512_TARGET void window_row_to_lanes_avx512(const float* windows, std::size_t window_size,
+                                                     std::size_t row, int columns, int count,
+                                                     float* x) noexcept {
+  const auto ld = static_cast<std::size_t>(count);
+  const __m512i person =
+      _mm512_mullo_epi32(_mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
+                         _mm512_set1_epi32(static_cast<int>(window_size)));
+  for (int p = 0; p < count; p += kLaneGroup) {
+    const float* first = windows + static_cast<std::size_t>(p) * window_size + row;
+    for (int c = 0; c < columns; ++c) {
+      _mm512_storeu_ps(x + static_cast<std::size_t>(c) * ld + static_cast<std::size_t>(p),
+                       _mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xffff, person, first + c, 4));
+    }
+  }
+}
+
+}  // namespace
+#endif
+
 void window_row_to_lanes(const float* windows, std::size_t window_size, std::size_t row,
                          int columns, int count, float* x) noexcept {
+#if DEIXIS_AVX512_KERNEL
+  // Whole groups of sixteen, and window offsets the gather's 32-bit indices hold (always).
+  if (count % kLaneGroup == 0 && window_size < (std::size_t{1} << 26) &&
+      best_product_kernel() == ProductKernel::kAvx512) {
+    window_row_to_lanes_avx512(windows, window_size, row, columns, count, x);
+    return;
+  }
+#endif
   const auto ld = static_cast<std::size_t>(count);
   for (int p = 0; p < count; ++p) {
     const float* in = windows + static_cast<std::size_t>(p) * window_size + row;
