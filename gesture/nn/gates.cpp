@@ -50,44 +50,49 @@ void eigen_tanh(float* values, std::size_t padded) noexcept {
 // constants they are, in 16-float vectors. Operand orders follow Eigen's AVX packets: its pmin(a,
 // b) and pmax(a, b) are vminps/vmaxps with the operands swapped (b, a), which decides what a NaN
 // gives; pcmp_lt is an ordered, quiet less-than; pselect(m, a, b) takes a where m is set.
-DEIXIS_AVX512_TARGET inline __m512 multiply_add(__m512 a, __m512 b, float c) noexcept {
-  return _mm512_fmadd_ps(a, b, _mm512_set1_ps(c));
+
+// c[0]·x^(N−1) + … + c[N−1] by Horner's rule as Eigen writes it: pmadd(x, c[0], c[1]), then
+// pmadd(x, p, c[k]) down to the constant term.
+template <std::size_t N>
+DEIXIS_AVX512_TARGET inline __m512 horner(__m512 x, const float (&c)[N]) noexcept {
+  __m512 p = _mm512_fmadd_ps(x, _mm512_set1_ps(c[0]), _mm512_set1_ps(c[1]));
+  for (std::size_t k = 2; k < N; ++k) {
+    p = _mm512_fmadd_ps(x, p, _mm512_set1_ps(c[k]));
+  }
+  return p;
 }
 
-// The logistic where no value is below −9 (there Eigen takes e^x instead; the caller checks).
+// The logistic where no value is below −9 (there Eigen takes e^x instead; the caller checks):
+// 1/2 + p(x)/q(x), p odd, q even.
 DEIXIS_AVX512_TARGET inline __m512 logistic16(__m512 x_in) noexcept {
+  static constexpr float kP[] = {4.37031012579801e-11f, 1.15627324459942e-07f,
+                                 6.08574864600143e-05f, 8.51377133304701e-03f,
+                                 2.48287947061529e-01f};
+  static constexpr float kQ[] = {6.10247389755681e-13f, 5.76102136993427e-09f,
+                                 6.29106785017040e-06f, 1.70198817374094e-03f,
+                                 1.16817656904453e-01f, 9.93151921023180e-01f};
   const __m512 x = _mm512_min_ps(_mm512_set1_ps(15.7243833541870117f), x_in);
   const __m512 x2 = _mm512_mul_ps(x, x);
-  __m512 p = multiply_add(x2, _mm512_set1_ps(4.37031012579801e-11f), 1.15627324459942e-07f);
-  p = multiply_add(x2, p, 6.08574864600143e-05f);
-  p = multiply_add(x2, p, 8.51377133304701e-03f);
-  p = multiply_add(x2, p, 2.48287947061529e-01f);
-  p = _mm512_mul_ps(x, p);
-  __m512 q = multiply_add(x2, _mm512_set1_ps(6.10247389755681e-13f), 5.76102136993427e-09f);
-  q = multiply_add(x2, q, 6.29106785017040e-06f);
-  q = multiply_add(x2, q, 1.70198817374094e-03f);
-  q = multiply_add(x2, q, 1.16817656904453e-01f);
-  q = multiply_add(x2, q, 9.93151921023180e-01f);
+  const __m512 p = _mm512_mul_ps(x, horner(x2, kP));
+  const __m512 q = horner(x2, kQ);
   return _mm512_add_ps(_mm512_div_ps(p, q), _mm512_set1_ps(0.5f));
 }
 
+// tanh: x itself below 0.0004 in magnitude, else p(x)/q(x) on x clamped to ±7.9988.
 DEIXIS_AVX512_TARGET inline __m512 tanh16(__m512 x_in) noexcept {
+  static constexpr float kP[] = {
+      -2.76076847742355e-16f, 2.00018790482477e-13f, -8.60467152213735e-11f, 5.12229709037114e-08f,
+      1.48572235717979e-05f,  6.37261928875436e-04f, 4.89352455891786e-03f};
+  static constexpr float kQ[] = {1.19825839466702e-06f, 1.18534705686654e-04f,
+                                 2.26843463243900e-03f, 4.89352518554385e-03f};
   constexpr float kClamp = 7.99881172180175781f;
   const __m512 x =
       _mm512_max_ps(_mm512_set1_ps(-kClamp), _mm512_min_ps(_mm512_set1_ps(kClamp), x_in));
-  const __m512 magnitude = _mm512_abs_ps(x_in);
-  const __mmask16 tiny = _mm512_cmp_ps_mask(magnitude, _mm512_set1_ps(0.0004f), _CMP_LT_OQ);
+  const __mmask16 tiny =
+      _mm512_cmp_ps_mask(_mm512_abs_ps(x_in), _mm512_set1_ps(0.0004f), _CMP_LT_OQ);
   const __m512 x2 = _mm512_mul_ps(x, x);
-  __m512 p = multiply_add(x2, _mm512_set1_ps(-2.76076847742355e-16f), 2.00018790482477e-13f);
-  p = multiply_add(x2, p, -8.60467152213735e-11f);
-  p = multiply_add(x2, p, 5.12229709037114e-08f);
-  p = multiply_add(x2, p, 1.48572235717979e-05f);
-  p = multiply_add(x2, p, 6.37261928875436e-04f);
-  p = multiply_add(x2, p, 4.89352455891786e-03f);
-  p = _mm512_mul_ps(x, p);
-  __m512 q = multiply_add(x2, _mm512_set1_ps(1.19825839466702e-06f), 1.18534705686654e-04f);
-  q = multiply_add(x2, q, 2.26843463243900e-03f);
-  q = multiply_add(x2, q, 4.89352518554385e-03f);
+  const __m512 p = _mm512_mul_ps(x, horner(x2, kP));
+  const __m512 q = horner(x2, kQ);
   return _mm512_mask_blend_ps(tiny, _mm512_div_ps(p, q), x);
 }
 
@@ -146,38 +151,33 @@ DEIXIS_AVX512_TARGET void gru_gates_avx512(const float* gi, float* gh, float* h,
 #endif
 #endif
 
-std::size_t zero_padding(float* values, std::size_t n) noexcept {
+using GateLoop = void (*)(float* values, std::size_t padded) noexcept;
+#if DEIXIS_AVX512_KERNEL
+constexpr GateLoop kLogisticAvx512 = logistic_avx512;
+constexpr GateLoop kTanhAvx512 = tanh_avx512;
+#else
+constexpr GateLoop kLogisticAvx512 = nullptr;
+constexpr GateLoop kTanhAvx512 = nullptr;
+#endif
+
+// values[0, n) through `avx512` where that is the kernel (and built), else through `build`, the
+// padding up to padded_to_packets(n) zeroed first.
+void apply_gate(ProductKernel kernel, GateLoop build, GateLoop avx512, float* values,
+                std::size_t n) noexcept {
   const std::size_t padded = padded_to_packets(n);
   std::fill(values + n, values + padded, 0.0f);
-  return padded;
+  const bool wide = kernel == ProductKernel::kAvx512 && avx512 != nullptr;
+  (wide ? avx512 : build)(values, padded);
 }
 
 }  // namespace
 
 void logistic_in_place(ProductKernel kernel, float* values, std::size_t n) noexcept {
-  const std::size_t padded = zero_padding(values, n);
-#if DEIXIS_AVX512_KERNEL
-  if (kernel == ProductKernel::kAvx512) {
-    logistic_avx512(values, padded);
-    return;
-  }
-#else
-  (void)kernel;
-#endif
-  eigen_logistic(values, padded);
+  apply_gate(kernel, eigen_logistic, kLogisticAvx512, values, n);
 }
 
 void tanh_in_place(ProductKernel kernel, float* values, std::size_t n) noexcept {
-  const std::size_t padded = zero_padding(values, n);
-#if DEIXIS_AVX512_KERNEL
-  if (kernel == ProductKernel::kAvx512) {
-    tanh_avx512(values, padded);
-    return;
-  }
-#else
-  (void)kernel;
-#endif
-  eigen_tanh(values, padded);
+  apply_gate(kernel, eigen_tanh, kTanhAvx512, values, n);
 }
 
 void gru_gates_in_lanes(ProductKernel kernel, const float* gi, float* gh, float* h,
