@@ -8,7 +8,6 @@
 // The authors' GRUs are not stateful: every call starts from h = 0 and runs over all rows of the
 // window (docs/conventions.md#grus), so a layer has weights and no state.
 
-#include <algorithm>
 #include <cstddef>
 #include <string>
 
