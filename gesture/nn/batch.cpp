@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <utility>
 
 #include "gesture/nn/simd_target.h"
@@ -90,16 +93,6 @@ void row48(const float* a, const float* w, std::size_t ldw, float* c, int depth)
   _mm256_storeu_ps(c + 40, c5);
 }
 
-// Eight columns, one row (narrow remainders).
-void row8(const float* a, const float* w, std::size_t ldw, float* c, int depth) noexcept {
-  __m256 c0 = _mm256_setzero_ps();
-  for (int i = 0; i < depth; ++i) {
-    c0 = _mm256_fmadd_ps(_mm256_broadcast_ss(a + i), _mm256_loadu_ps(w), c0);
-    w += ldw;
-  }
-  _mm256_storeu_ps(c, c0);
-}
-
 // 16 columns of every row, six rows at a time.
 void column_block16(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
                     std::size_t ldc, int rows, int depth) noexcept {
@@ -115,6 +108,59 @@ void column_block16(const float* a, std::size_t lda, const float* w, std::size_t
                                              block16<3>, block16<4>, block16<5>};
   if (r < rows) {
     kNarrower[rows - r](a + r * lda, lda, w, ldw, c + r * ldc, ldc, depth);
+  }
+}
+
+// A block of R ≤ 12 rows × one vector of up to eight columns (a layer's last 8 or fewer, e.g.
+// UGNet's third expert layer, 24 columns a panel). Every row is its own chain of multiply-adds, so
+// R chains run at once: a row at a time, each multiply-add waited on the one before (4 cycles),
+// ran at a tenth of the peak and took 1.2 µs a person at 64 on the Xeon (docs/scaling.md). With
+// fewer than eight columns (`Masked`), masked loads read zeros beyond `mask` and masked stores
+// leave those columns alone; every lane is the same fused chain as the scalar code's, so the bits
+// are the same.
+template <int R, bool Masked, std::size_t... K>
+inline void block8(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
+                   std::size_t ldc, int depth, __m256i mask, std::index_sequence<K...>) noexcept {
+  __m256 acc[R];
+  ((acc[K] = _mm256_setzero_ps()), ...);
+  for (int i = 0; i < depth; ++i) {
+    const __m256 wv = Masked ? _mm256_maskload_ps(w, mask) : _mm256_loadu_ps(w);
+    w += ldw;
+    ((acc[K] = _mm256_fmadd_ps(_mm256_broadcast_ss(a + K * lda + i), wv, acc[K])), ...);
+  }
+  if constexpr (Masked) {
+    (_mm256_maskstore_ps(c + K * ldc, mask, acc[K]), ...);
+  } else {
+    (_mm256_storeu_ps(c + K * ldc, acc[K]), ...);
+  }
+}
+
+template <int R, bool Masked>
+void block8(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
+            std::size_t ldc, int depth, __m256i mask) noexcept {
+  block8<R, Masked>(a, lda, w, ldw, c, ldc, depth, mask,
+                    std::make_index_sequence<static_cast<std::size_t>(R)>{});
+}
+
+// Up to eight columns (`width`) of every row, twelve rows at a time.
+template <bool Masked>
+void column_block8(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
+                   std::size_t ldc, int rows, int depth, int width) noexcept {
+  const __m256i mask =
+      _mm256_cmpgt_epi32(_mm256_set1_epi32(width), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  constexpr int kRows = 12;
+  int r = 0;
+  for (; r + kRows <= rows; r += kRows) {
+    block8<kRows, Masked>(a + r * lda, lda, w, ldw, c + r * ldc, ldc, depth, mask);
+  }
+  using Block = void (*)(const float*, std::size_t, const float*, std::size_t, float*, std::size_t,
+                         int, __m256i) noexcept;
+  static constexpr Block kNarrower[kRows] = {
+      nullptr,           block8<1, Masked>, block8<2, Masked>,  block8<3, Masked>,
+      block8<4, Masked>, block8<5, Masked>, block8<6, Masked>,  block8<7, Masked>,
+      block8<8, Masked>, block8<9, Masked>, block8<10, Masked>, block8<11, Masked>};
+  if (r < rows) {
+    kNarrower[rows - r](a + r * lda, lda, w, ldw, c + r * ldc, ldc, depth, mask);
   }
 }
 
@@ -172,7 +218,7 @@ void multiply_lanes_avx2(const float* w, std::size_t ldw, const float* x, std::s
 // x86-64-v3; docs/scaling.md). A block is R ≤ 8 rows × Z ≤ 3 vectors of 16 columns, so up to 24
 // accumulators of the 32 registers. Each lane is the same fmadd chain over i in the same order as
 // the AVX2 kernels', so the bits are the same whichever kernel runs (the AVX2 build's narrow
-// remainders are the same fused multiply-adds, one lane or one value at a time). The accumulators
+// remainders are the same fused multiply-adds, in masked vectors of eight). The accumulators
 // are an array indexed only through pack expansions (no loop over them), so the compiler can keep
 // them in registers (batch_test's kernel comparison and translator_bench's BM_BatchProduct say
 // whether it did).
@@ -327,7 +373,8 @@ DEIXIS_AVX512_TARGET void multiply_lanes_avx512(const float* w, std::size_t ldw,
 }
 #endif
 
-// Columns [from, to) one value at a time (narrow remainders, and builds without AVX2).
+#if !(defined(__AVX2__) && defined(__FMA__))
+// Columns [from, to) one value at a time (builds without AVX2).
 void scalar_columns(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,
                     std::size_t ldc, int rows, int depth, int from, int to) noexcept {
   for (int r = 0; r < rows; ++r) {
@@ -347,6 +394,8 @@ void scalar_columns(const float* a, std::size_t lda, const float* w, std::size_t
     }
   }
 }
+
+#endif
 
 // `kernel` is available here (the callers below make sure).
 void multiply(ProductKernel kernel, const float* a, std::size_t lda, const float* w,
@@ -369,13 +418,16 @@ void multiply(ProductKernel kernel, const float* a, std::size_t lda, const float
   for (; j + 16 <= cols; j += 16) {
     column_block16(a, lda, w + j, ldw, c + j, ldc, rows, depth);
   }
-  for (; j + 8 <= cols; j += 8) {
-    for (int r = 0; r < rows; ++r) {
-      row8(a + r * lda, w + j, ldw, c + r * ldc + j, depth);
-    }
+  if (j + 8 <= cols) {
+    column_block8<false>(a, lda, w + j, ldw, c + j, ldc, rows, depth, 8);
+    j += 8;
   }
-#endif
+  if (j < cols) {
+    column_block8<true>(a, lda, w + j, ldw, c + j, ldc, rows, depth, cols - j);
+  }
+#else
   scalar_columns(a, lda, w, ldw, c, ldc, rows, depth, j, cols);
+#endif
 }
 
 #if !(defined(__AVX2__) && defined(__FMA__))
@@ -435,9 +487,36 @@ bool product_kernel_available(ProductKernel kernel) noexcept {
   return false;
 }
 
+namespace {
+
+// DEIXIS_PRODUCT_KERNEL=build keeps a CPU with AVX-512 to the build's kernels, so that the figures
+// of a CPU without it can be measured on one with it (as oneDNN's ONEDNN_MAX_CPU_ISA does). Both
+// kernels give the same bits; only speed differs. Read once: the choice must not change between
+// calls of one run.
+ProductKernel choose_product_kernel() noexcept {
+  const bool avx512 = product_kernel_available(ProductKernel::kAvx512);
+  const char* asked = std::getenv("DEIXIS_PRODUCT_KERNEL");
+  if (asked == nullptr || *asked == '\0' || std::strcmp(asked, "best") == 0) {
+    return avx512 ? ProductKernel::kAvx512 : ProductKernel::kBuild;
+  }
+  if (std::strcmp(asked, "build") == 0) {
+    return ProductKernel::kBuild;
+  }
+  if (std::strcmp(asked, "avx512") == 0 && avx512) {
+    return ProductKernel::kAvx512;
+  }
+  std::fprintf(stderr, "deixis: DEIXIS_PRODUCT_KERNEL=%s %s; using the %s kernels\n", asked,
+               std::strcmp(asked, "avx512") == 0 ? "asks for AVX-512, which this CPU or build lacks"
+                                                 : "is not one of best, build, avx512",
+               avx512 ? "AVX-512" : "build's");
+  return avx512 ? ProductKernel::kAvx512 : ProductKernel::kBuild;
+}
+
+}  // namespace
+
 ProductKernel best_product_kernel() noexcept {
-  return product_kernel_available(ProductKernel::kAvx512) ? ProductKernel::kAvx512
-                                                          : ProductKernel::kBuild;
+  static const ProductKernel chosen = choose_product_kernel();
+  return chosen;
 }
 
 void multiply_rows(const float* a, std::size_t lda, const float* w, std::size_t ldw, float* c,

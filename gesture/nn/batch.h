@@ -57,7 +57,9 @@ void multiply_rows(const float* a, std::size_t lda, const float* w, std::size_t 
 // tests and benchmarks, which compare them.
 enum class ProductKernel { kBuild, kAvx512 };
 bool product_kernel_available(ProductKernel kernel) noexcept;
-ProductKernel best_product_kernel() noexcept;  // kAvx512 where available
+// kAvx512 where available, unless the environment's DEIXIS_PRODUCT_KERNEL is `build` (for
+// measuring a CPU without AVX-512 on one with it; read once per process).
+ProductKernel best_product_kernel() noexcept;
 void multiply_rows(ProductKernel kernel, const float* a, std::size_t lda, const float* w,
                    std::size_t ldw, float* c, std::size_t ldc, int rows, int depth,
                    int cols) noexcept;

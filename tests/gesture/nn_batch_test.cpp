@@ -17,6 +17,7 @@
 
 #include "core/io/safetensors.h"
 #include "gesture/nn/gru.h"
+#include "gesture/nn/lanewise_math.h"
 #include "gesture/nn/mpnet.h"
 #include "gesture/nn/ugnet.h"
 #include "test_support.h"
@@ -241,6 +242,45 @@ TEST(OtherArchitectures, DiffusionTakesEachPersonsDraws) {
   const Ugnet ugnet = Ugnet::load(authors("right") / "UGNet(Diffusion)(AC)120.safetensors");
   EXPECT_EQ(ugnet_batch_error(ugnet, random_windows(8, kUgnetColumns, -1.0f, 1.0f, 15), true),
             0.0f);
+}
+
+// Both kernels give, for every row and column, the bits of one fused multiply-add chain over the
+// depth in order (what a person alone computes, one value at a time): rows that fill no block of
+// six or twelve or several, columns that leave remainders of 8 and of 1 to 7 (masked vectors),
+// strided rows; and they write nothing past the columns.
+TEST(Products, KernelsGiveOneChainPerValue) {
+  std::mt19937 random(20);
+  std::uniform_real_distribution<float> value(-2.0f, 2.0f);
+  for (const ProductKernel kernel : {ProductKernel::kBuild, ProductKernel::kAvx512}) {
+    for (const int rows : {1, 2, 5, 6, 7, 11, 12, 13, 25, 64}) {
+      for (const int cols : {1, 3, 7, 8, 12, 24, 27, 31, 56, 108}) {
+        const int depth = 29;
+        const std::size_t lda = depth + 3, ldc = static_cast<std::size_t>(cols) + 5;
+        std::vector<float> a(rows * lda), w(static_cast<std::size_t>(depth) * cols);
+        std::generate(a.begin(), a.end(), [&] { return value(random); });
+        std::generate(w.begin(), w.end(), [&] { return value(random); });
+        std::vector<float> c(rows * ldc, -1.0f);
+        multiply_rows(kernel, a.data(), lda, w.data(), cols, c.data(), ldc, rows, depth, cols);
+        int differing = 0, written_past = 0;
+        for (int r = 0; r < rows; ++r) {
+          for (int j = 0; j < cols; ++j) {
+            float chain = 0.0f;
+            for (int i = 0; i < depth; ++i) {
+              chain = lanewise::multiply_add(a[r * lda + i],
+                                             w[static_cast<std::size_t>(i) * cols + j], chain);
+            }
+            differing += std::memcmp(&c[r * ldc + j], &chain, sizeof(float)) != 0;
+          }
+          for (std::size_t j = static_cast<std::size_t>(cols); j < ldc; ++j) {
+            written_past += c[r * ldc + j] != -1.0f;
+          }
+        }
+        EXPECT_EQ(differing, 0) << rows << " rows × " << cols << " columns, kernel "
+                                << static_cast<int>(kernel);
+        EXPECT_EQ(written_past, 0) << rows << " rows × " << cols << " columns";
+      }
+    }
+  }
 }
 
 // The AVX-512 kernels (chosen at run time where the CPU has them) give the build's kernels' bits
