@@ -44,8 +44,9 @@ void tanh_in_place(ProductKernel kernel, float* values, std::size_t n) noexcept;
 //   r|z = σ(gi_rz + gh_rz),   n = tanh(gi_n + r ⊙ gh_n),   h ← n + z ⊙ (h − n)
 // with the same operations on every value as GruLayer::step_batch (a fused multiply-add each for
 // n's argument and for h), so a person's bits are the same in either layout. gh is overwritten.
-// With AVX-512 in one pass over r|z and one over n and h, sixteen values at a time: the sums and
-// multiply-adds ride along with the gates' divisions. No allocation.
+// In one pass over r|z and one over n and h (sixteen values at a time with AVX-512, the build's
+// packets otherwise): the sums and multiply-adds ride along with the gates' divisions. No
+// allocation.
 void gru_gates_in_lanes(const float* gi, float* gh, float* h, std::size_t values) noexcept;
 void gru_gates_in_lanes(ProductKernel kernel, const float* gi, float* gh, float* h,
                         std::size_t values) noexcept;
