@@ -9,6 +9,8 @@
 // the same N windows; mpnet_us and ugnet_us each network's part of it) and net_share (their part
 // of the tick). Goal: at N = 64, us_per_person at most a third of N = 1's in the same run, and
 // net_us_per_person ≤ 12 µs.
+// With DEIXIS_PRODUCT_KERNEL=build in the environment the networks keep to the build's AVX2
+// kernels, as on a CPU without AVX-512 (gesture/nn/batch.h; docs/scaling.md has both cases).
 
 #include <benchmark/benchmark.h>
 
