@@ -495,21 +495,23 @@ namespace {
 // calls of one run.
 ProductKernel choose_product_kernel() noexcept {
   const bool avx512 = product_kernel_available(ProductKernel::kAvx512);
+  const ProductKernel best = avx512 ? ProductKernel::kAvx512 : ProductKernel::kBuild;
   const char* asked = std::getenv("DEIXIS_PRODUCT_KERNEL");
   if (asked == nullptr || *asked == '\0' || std::strcmp(asked, "best") == 0) {
-    return avx512 ? ProductKernel::kAvx512 : ProductKernel::kBuild;
+    return best;
   }
   if (std::strcmp(asked, "build") == 0) {
     return ProductKernel::kBuild;
   }
-  if (std::strcmp(asked, "avx512") == 0 && avx512) {
+  const bool asks_avx512 = std::strcmp(asked, "avx512") == 0;
+  if (asks_avx512 && avx512) {
     return ProductKernel::kAvx512;
   }
   std::fprintf(stderr, "deixis: DEIXIS_PRODUCT_KERNEL=%s %s; using the %s kernels\n", asked,
-               std::strcmp(asked, "avx512") == 0 ? "asks for AVX-512, which this CPU or build lacks"
-                                                 : "is not one of best, build, avx512",
+               asks_avx512 ? "asks for AVX-512, which this CPU or build lacks"
+                           : "is not one of best, build, avx512",
                avx512 ? "AVX-512" : "build's");
-  return avx512 ? ProductKernel::kAvx512 : ProductKernel::kBuild;
+  return best;
 }
 
 }  // namespace
