@@ -244,21 +244,35 @@ TEST(OtherArchitectures, DiffusionTakesEachPersonsDraws) {
             0.0f);
 }
 
+// Inputs of a product c = a·w with strided rows: a is rows × depth with a row every depth + 3
+// floats, w is depth × cols, values uniform in [−2, 2); c's rows are cols + 5 apart, so that a test
+// can see what was written past the columns.
+struct ProductInputs {
+  std::size_t lda, ldc;
+  std::vector<float> a, w;
+};
+
+ProductInputs random_product_inputs(int rows, int depth, int cols, std::mt19937& random) {
+  std::uniform_real_distribution<float> value(-2.0f, 2.0f);
+  ProductInputs in{static_cast<std::size_t>(depth) + 3, static_cast<std::size_t>(cols) + 5, {}, {}};
+  in.a.resize(rows * in.lda);
+  in.w.resize(static_cast<std::size_t>(depth) * cols);
+  std::generate(in.a.begin(), in.a.end(), [&] { return value(random); });
+  std::generate(in.w.begin(), in.w.end(), [&] { return value(random); });
+  return in;
+}
+
 // Both kernels give, for every row and column, the bits of one fused multiply-add chain over the
 // depth in order (what a person alone computes, one value at a time): rows that fill no block of
 // six or twelve or several, columns that leave remainders of 8 and of 1 to 7 (masked vectors),
 // strided rows; and they write nothing past the columns.
 TEST(Products, KernelsGiveOneChainPerValue) {
   std::mt19937 random(20);
-  std::uniform_real_distribution<float> value(-2.0f, 2.0f);
   for (const ProductKernel kernel : {ProductKernel::kBuild, ProductKernel::kAvx512}) {
     for (const int rows : {1, 2, 5, 6, 7, 11, 12, 13, 25, 64}) {
       for (const int cols : {1, 3, 7, 8, 12, 24, 27, 31, 56, 108}) {
         const int depth = 29;
-        const std::size_t lda = depth + 3, ldc = static_cast<std::size_t>(cols) + 5;
-        std::vector<float> a(rows * lda), w(static_cast<std::size_t>(depth) * cols);
-        std::generate(a.begin(), a.end(), [&] { return value(random); });
-        std::generate(w.begin(), w.end(), [&] { return value(random); });
+        const auto [lda, ldc, a, w] = random_product_inputs(rows, depth, cols, random);
         std::vector<float> c(rows * ldc, -1.0f);
         multiply_rows(kernel, a.data(), lda, w.data(), cols, c.data(), ldc, rows, depth, cols);
         int differing = 0, written_past = 0;
@@ -292,14 +306,10 @@ TEST(Products, Avx512KernelsGiveTheBuildKernelsBits) {
                     "builds) and a CPU with AVX-512F; the build's kernels are the only ones";
   }
   std::mt19937 random(21);
-  std::uniform_real_distribution<float> value(-2.0f, 2.0f);
   for (const int rows : {1, 2, 5, 7, 8, 9, 13, 64}) {
     for (const int cols : {8, 16, 27, 32, 40, 48, 64, 72, 96, 112}) {
       const int depth = 37;
-      const std::size_t lda = depth + 3, ldc = static_cast<std::size_t>(cols) + 5;
-      std::vector<float> a(rows * lda), w(static_cast<std::size_t>(depth) * cols);
-      std::generate(a.begin(), a.end(), [&] { return value(random); });
-      std::generate(w.begin(), w.end(), [&] { return value(random); });
+      const auto [lda, ldc, a, w] = random_product_inputs(rows, depth, cols, random);
       std::vector<float> build(rows * ldc, -1.0f), wide(rows * ldc, -1.0f);
       multiply_rows(ProductKernel::kBuild, a.data(), lda, w.data(), cols, build.data(), ldc, rows,
                     depth, cols);
